@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+//
+// tkr-wear: the command-line front end. It reads the parameter file, chooses
+// the problem and reports errors; everything else lives in the library.
+
+#include <deal.II/base/mpi.h>
+
+#include <tkr/base/exceptions.h>
+#include <tkr/elasticity/elasticity_problem.h>
+#include <tkr/parameters/parameters.h>
+
+#include <iostream>
+#include <string>
+
+namespace
+{
+  void
+  print_usage(std::ostream &out)
+  {
+    out
+      << "Usage: tkr-wear FILE.prm           run the problem the file describes\n"
+      << "       tkr-wear --print-parameters write the documented default "
+         "parameter file\n"
+      << "       tkr-wear --help             this text\n"
+      << "Run in parallel with: mpirun -np N tkr-wear FILE.prm\n";
+  }
+
+  /** Run the problem; returns the process exit code. */
+  int
+  run(const std::string &filename, const MPI_Comm mpi_communicator)
+  {
+    using namespace TKR;
+    const Parameters::AllParameters parameters =
+      Parameters::read_parameters(filename);
+    switch (parameters.problem)
+      {
+        case Parameters::ProblemType::elasticity:
+          {
+            Elasticity::ElasticityProblem problem(parameters, mpi_communicator);
+            return problem.run() ? 0 : 1;
+          }
+        case Parameters::ProblemType::contact:
+        case Parameters::ProblemType::wear:
+          AssertThrow(false,
+                      ExcInputError(
+                        "Problem = " +
+                        Parameters::to_string(parameters.problem) + " (in <" +
+                        filename +
+                        ">) is not implemented yet in this version of "
+                        "tkr-wear; Problem = elasticity is."));
+      }
+    return 1;
+  }
+} // namespace
+
+int
+main(int argc, char *argv[])
+{
+  using namespace dealii;
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  const MPI_Comm                   mpi_communicator = MPI_COMM_WORLD;
+  const bool is_root = Utilities::MPI::this_mpi_process(mpi_communicator) == 0;
+
+  const std::string argument = (argc == 2 ? argv[1] : "");
+  if (argc != 2 || argument == "--help" || argument == "-h")
+    {
+      if (is_root)
+        print_usage(argc == 2 ? std::cout : std::cerr);
+      return argc == 2 ? 0 : 2;
+    }
+  if (argument == "--print-parameters")
+    {
+      if (is_root)
+        TKR::Parameters::print_default_parameters(std::cout);
+      return 0;
+    }
+
+  try
+    {
+      return run(argument, mpi_communicator);
+    }
+  catch (const TKR::ExcInputError &exc)
+    {
+      // Every rank reads the same input and fails the same way.
+      if (is_root)
+        std::cerr << "tkr-wear: error: " << TKR::exception_message(exc)
+                  << std::endl;
+      return 1;
+    }
+  catch (const std::exception &exc)
+    {
+      std::cerr << "tkr-wear: internal error on rank "
+                << Utilities::MPI::this_mpi_process(mpi_communicator) << ":\n"
+                << exc.what() << std::endl;
+      MPI_Abort(mpi_communicator, 2);
+    }
+  return 2;
+}

@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#ifndef tkr_base_exceptions_h
+#define tkr_base_exceptions_h
+
+#include <deal.II/base/exceptions.h>
+
+#include <string>
+
+namespace TKR
+{
+  /**
+   * The exception for everything a user can get wrong: a parameter file that
+   * does not parse, a mesh that lacks a physical group, bodies that do not
+   * touch. The message is a complete sentence meant for the user; the
+   * application prints it alone (without deal.II's stack trace) and exits
+   * with a non-zero code. Throw it with `AssertThrow(cond,
+   * ExcInputError(message))`.
+   */
+  DeclException1(ExcInputError, std::string, << arg1);
+
+  /**
+   * The message of an exception without deal.II's header (file, line,
+   * function, condition): what ExceptionBase::print_info() writes, trimmed.
+   */
+  std::string
+  exception_message(const dealii::ExceptionBase &exc);
+} // namespace TKR
+
+#endif

@@ -1,0 +1,176 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#ifndef tkr_elasticity_linear_elasticity_h
+#define tkr_elasticity_linear_elasticity_h
+
+#include <deal.II/base/index_set.h>
+#include <deal.II/base/symmetric_tensor.h>
+#include <deal.II/base/timer.h>
+
+#include <deal.II/dofs/dof_handler.h>
+
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/mapping.h>
+
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/trilinos_vector.h>
+
+#include <tkr/parameters/parameters.h>
+
+#include <map>
+#include <memory>
+
+class Epetra_MultiVector;
+
+namespace TKR::Elasticity
+{
+  /**
+   * Small-strain, isotropic linear elasticity:
+   * $\sigma = \lambda\,\mathrm{tr}(\varepsilon) I + 2\mu\varepsilon$.
+   * Stresses in MPa for strains that are dimensionless.
+   */
+  dealii::SymmetricTensor<2, 3>
+  stress(const Parameters::Material          &material,
+         const dealii::SymmetricTensor<2, 3> &strain);
+
+  /** The material of a cell, by its material id (femur or tibia). */
+  const Parameters::Material &
+  material_of(const Parameters::Materials     &materials,
+              const dealii::types::material_id material_id);
+
+  /** What a linear solve did. */
+  struct SolverStatistics
+  {
+    unsigned int iterations = 0;
+    /** Final residual divided by the norm of the right-hand side. */
+    double relative_residual = 0;
+    bool   converged         = false;
+  };
+
+  /**
+   * Two linear-elastic bodies on one DoFHandler with FESystem(FE_Q(p), 3),
+   * the material of each cell chosen by its material id. Works on any
+   * triangulation whose locally owned cells are known (serial or
+   * parallel::shared); the matrix and vectors are Trilinos objects over the
+   * locally owned DoFs. The verbs follow step-8/step-40: distribute_dofs(),
+   * setup_system(), assemble_system(), solve().
+   */
+  class LinearElasticity
+  {
+  public:
+    LinearElasticity(const dealii::Triangulation<3> &triangulation,
+                     const Parameters::Materials    &materials,
+                     const Parameters::LinearSolver &solver_parameters,
+                     const unsigned int              fe_degree,
+                     const MPI_Comm                  mpi_communicator,
+                     dealii::TimerOutput            &timer);
+
+    /** Number the DoFs and set the owned and relevant index sets. */
+    void
+    distribute_dofs();
+
+    /**
+     * Build the sparsity pattern (with the couplings @p constraints
+     * introduce) and size the matrix and vectors. Call again when the
+     * constraints couple new DoFs.
+     */
+    void
+    setup_system(const dealii::AffineConstraints<double> &constraints);
+
+    /**
+     * Assemble the stiffness matrix and the load vector on the geometry
+     * given by @p mapping, with uniform tractions (MPa) on the boundary ids
+     * in @p tractions, eliminating @p constraints (inhomogeneities
+     * included) as in step-8.
+     */
+    void
+    assemble_system(const dealii::Mapping<3>                &mapping,
+                    const dealii::AffineConstraints<double> &constraints,
+                    const std::map<dealii::types::boundary_id,
+                                   dealii::Tensor<1, 3>>    &tractions);
+
+    /**
+     * Build the ML AMG preconditioner of the current matrix with the
+     * rigid-body modes (evaluated at the support points mapped by
+     * @p mapping) as near-null space.
+     */
+    void
+    setup_preconditioner(const dealii::Mapping<3> &mapping);
+
+    /**
+     * Solve with CG and the AMG preconditioner (set up by
+     * setup_preconditioner()), distribute the constraints and update the
+     * ghosted solution. A non-converged solve is reported, not thrown.
+     */
+    SolverStatistics
+    solve(const dealii::AffineConstraints<double> &constraints);
+
+    /** Largest nodal displacement magnitude (mm) in the body @p material. */
+    double
+    max_displacement(const dealii::types::material_id material) const;
+
+    const dealii::DoFHandler<3> &
+    get_dof_handler() const
+    {
+      return dof_handler;
+    }
+    const dealii::FESystem<3> &
+    get_fe() const
+    {
+      return fe;
+    }
+    const dealii::IndexSet &
+    locally_owned_dofs() const
+    {
+      return owned_dofs;
+    }
+    const dealii::IndexSet &
+    locally_relevant_dofs() const
+    {
+      return relevant_dofs;
+    }
+    /** The solution with ghost entries (read it, do not write it). */
+    const dealii::TrilinosWrappers::MPI::Vector &
+    get_solution() const
+    {
+      return solution;
+    }
+    const dealii::TrilinosWrappers::SparseMatrix &
+    get_system_matrix() const
+    {
+      return system_matrix;
+    }
+    const dealii::TrilinosWrappers::MPI::Vector &
+    get_system_rhs() const
+    {
+      return system_rhs;
+    }
+    const Parameters::Materials &
+    get_materials() const
+    {
+      return materials;
+    }
+
+  private:
+    const Parameters::Materials    materials;
+    const Parameters::LinearSolver solver_parameters;
+    const MPI_Comm                 mpi_communicator;
+    dealii::TimerOutput           &timer;
+
+    dealii::FESystem<3>   fe;
+    dealii::DoFHandler<3> dof_handler;
+    dealii::IndexSet      owned_dofs, relevant_dofs;
+
+    dealii::TrilinosWrappers::SparseMatrix    system_matrix;
+    dealii::TrilinosWrappers::MPI::Vector     system_rhs;
+    dealii::TrilinosWrappers::MPI::Vector     solution;
+    dealii::TrilinosWrappers::PreconditionAMG preconditioner;
+    /** Near-null space handed to ML; must outlive the preconditioner. */
+    std::unique_ptr<Epetra_MultiVector> near_null_space;
+  };
+} // namespace TKR::Elasticity
+
+#endif

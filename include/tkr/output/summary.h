@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#ifndef tkr_output_summary_h
+#define tkr_output_summary_h
+
+#include <deal.II/base/mpi.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace TKR::Output
+{
+  /**
+   * The machine-readable record of a run, written as `summary.json`
+   * (DESIGN.md section 6). Keys keep the order in which they were first
+   * set; setting a key again replaces its value. Only rank 0 writes.
+   */
+  class Summary
+  {
+  public:
+    void
+    set(const std::string &key, const double value);
+    void
+    set(const std::string &key, const int value);
+    void
+    set(const std::string &key, const unsigned int value);
+    void
+    set(const std::string &key, const unsigned long long value);
+    void
+    set(const std::string &key, const bool value);
+    void
+    set(const std::string &key, const std::string &value);
+    void
+    set(const std::string &key, const char *value);
+
+    /** The JSON text. */
+    std::string
+    to_json() const;
+
+    /** Write `directory/summary.json` on rank 0 of @p mpi_communicator. */
+    void
+    write(const std::string &directory, const MPI_Comm mpi_communicator) const;
+
+  private:
+    void
+    set_raw(const std::string &key, const std::string &json_value);
+
+    std::vector<std::pair<std::string, std::string>> entries;
+  };
+
+  /** Create @p directory (and its parents) on rank 0; throw if impossible. */
+  void
+  create_directory(const std::string &directory,
+                   const MPI_Comm     mpi_communicator);
+} // namespace TKR::Output
+
+#endif

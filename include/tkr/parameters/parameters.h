@@ -1,0 +1,266 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#ifndef tkr_parameters_parameters_h
+#define tkr_parameters_parameters_h
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+
+#include <string>
+
+/**
+ * The run-time parameters of tkr-wear, one struct per subsection of the
+ * parameter file (step-44 style). Every struct has a static
+ * `declare_parameters()` that declares its entries (with pattern and a
+ * documentation string that states the unit) and a `parse_parameters()` that
+ * reads them back. AllParameters joins them. Units everywhere: mm, N, MPa,
+ * s, mg.
+ */
+namespace TKR::Parameters
+{
+  /**
+   * `subsection Mesh`: the gmsh file with both bodies, the names of its
+   * physical groups and the finite element degree.
+   */
+  struct Mesh
+  {
+    /** The gmsh `.msh` file (relative to the working directory). */
+    std::string file;
+    /** Polynomial degree of the FE_Q displacement elements. */
+    unsigned int fe_degree;
+    /** Physical-group names (DESIGN.md section 3). */
+    std::string femur_name, tibia_name;
+    std::string femur_contact_name, femur_fixation_name;
+    std::string tibia_contact_name, tibia_inferior_name;
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+
+  /** One linear-elastic, isotropic material. */
+  struct Material
+  {
+    /** Young's modulus in MPa. */
+    double youngs_modulus;
+    /** Poisson's ratio (dimensionless, in (-1, 0.5)). */
+    double poissons_ratio;
+    /** Density in mg/mm^3. */
+    double density;
+
+    /** Declare the entries with the given defaults. */
+    static void
+    declare_parameters(dealii::ParameterHandler &prm,
+                       const double              youngs_modulus,
+                       const double              poissons_ratio,
+                       const double              density);
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+
+    /** First Lame constant lambda in MPa. */
+    double
+    lambda() const;
+    /** Shear modulus mu in MPa. */
+    double
+    mu() const;
+  };
+
+  /** `subsection Materials`: `subsection Femur` and `subsection Tibia`. */
+  struct Materials
+  {
+    Material femur, tibia;
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+
+  /**
+   * `subsection Elasticity`: the two-body demonstration problem
+   * (`Problem = elasticity`) in which the bodies do not interact. Each body
+   * is clamped on its fixation (femur) or inferior (tibia) face and loaded
+   * by a uniform traction on its contact face.
+   */
+  struct Elasticity
+  {
+    /** Traction on `femur_contact`, in MPa (force per area, x,y,z). */
+    dealii::Tensor<1, 3> femur_contact_traction;
+    /** Traction on `tibia_contact`, in MPa. */
+    dealii::Tensor<1, 3> tibia_contact_traction;
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+
+  /** How the tibia's inferior face is supported in a static contact solve. */
+  enum class TibiaSupport
+  {
+    clamped,
+    loaded
+  };
+
+  /** `subsection Static contact` (`Problem = contact`). */
+  struct StaticContact
+  {
+    /** Displacement of `femur_fixation` in mm. */
+    dealii::Tensor<1, 3> femur_displacement;
+    TibiaSupport         tibia_inferior;
+    /** Axial force on `tibia_inferior` (N, along +z) if loaded. */
+    double axial_force;
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+
+  /** `subsection Gait`: the ISO 14243-1 load-controlled gait cycle. */
+  struct Gait
+  {
+    /** CSV file with flexion angle, axial force, AP force, IE torque. */
+    std::string  waveform_file;
+    unsigned int steps_per_cycle;
+    /** A point on the flexion axis (mm); the axis is parallel to x. */
+    dealii::Point<3> flexion_axis_point;
+    /** +1 if medial is +x, -1 if medial is -x (left and right knees). */
+    int medial_direction;
+    /** Medial offset of the axial load line as a fraction of the width. */
+    double axial_load_offset;
+    /** Restraint springs: AP in N/mm, IE in N mm/deg. */
+    double ap_spring_stiffness, ie_spring_stiffness;
+    /** Sign applied to the tabulated AP force and IE torque. */
+    double ap_force_sign, ie_torque_sign;
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+
+  /** `subsection Wear`: Archard wear and its extrapolation. */
+  struct Wear
+  {
+    /** Archard wear coefficient k in mm^3/(N m), as in the literature. */
+    double wear_coefficient;
+    /** Total number of gait cycles. */
+    double cycles;
+    /** Cycles per extrapolation step (n_Delta). */
+    double cycles_per_extrapolation_step;
+    /** Wear depth in mm above which a surface point counts as worn. */
+    double wear_area_threshold;
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+
+  /** The algorithm for the contact problem. */
+  enum class ContactAlgorithm
+  {
+    active_set,
+    ipopt
+  };
+
+  /** `subsection Contact solver`. */
+  struct ContactSolver
+  {
+    ContactAlgorithm algorithm;
+    /** Relative residual tolerance of the Newton iteration. */
+    double       tolerance;
+    unsigned int max_iterations;
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+
+  /** `subsection Linear solver`: CG preconditioned by Trilinos ML AMG. */
+  struct LinearSolver
+  {
+    /** Relative residual reduction of CG. */
+    double       tolerance;
+    unsigned int max_iterations;
+    /** Use the six rigid-body modes as AMG near-null space. */
+    bool rigid_body_modes;
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+
+  /** `subsection Output`. */
+  struct Output
+  {
+    std::string directory;
+    /** Write VTU every this many steps (0: never). */
+    unsigned int vtu_interval;
+    /** Write a checkpoint every this many extrapolation steps (0: never). */
+    unsigned int checkpoint_interval;
+    /** Leave out timings and wall-clock numbers (for regression tests). */
+    bool testing;
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+
+  /** The problems the program solves (`set Problem = ...`). */
+  enum class ProblemType
+  {
+    elasticity,
+    contact,
+    wear
+  };
+
+  /** All parameters of a run. */
+  struct AllParameters
+  {
+    ProblemType   problem;
+    Mesh          mesh;
+    Materials     materials;
+    Elasticity    elasticity;
+    StaticContact static_contact;
+    Gait          gait;
+    Wear          wear;
+    ContactSolver contact_solver;
+    LinearSolver  linear_solver;
+    Output        output;
+
+    /** The parameter file these values came from ("" for the defaults). */
+    std::string parameter_file;
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+
+  /**
+   * Read a parameter file. Every error a user can make (missing file,
+   * unknown subsection or entry, a value that does not match its pattern,
+   * unbalanced `subsection`/`end`) is turned into an ExcInputError whose
+   * message names the file, the line and the entry.
+   */
+  AllParameters
+  read_parameters(const std::string &filename);
+
+  /** Write the complete, documented default parameter file. */
+  void
+  print_default_parameters(std::ostream &out);
+
+  /** Name of a problem type as written in the parameter file. */
+  std::string
+  to_string(const ProblemType problem);
+} // namespace TKR::Parameters
+
+#endif

@@ -1,0 +1,38 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Shared set-up for scripts/run-main-job and scripts/run-tests: install the
+# Debian packages if missing, configure and build. Source it; do not run it.
+set -euo pipefail
+
+TKR_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+TKR_PACKAGES="libdeal.ii-dev gmsh coinor-libipopt-dev numdiff clang-format cmake g++ make pkg-config"
+TKR_JOBS=${TKR_JOBS:-$(nproc)}
+
+# OpenMPI refuses to start as root unless told that this is intended.
+if [ "$(id -u)" -eq 0 ]; then
+  export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+fi
+
+tkr_install_packages() {
+  local missing=()
+  for p in $TKR_PACKAGES; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing+=("$p")
+  done
+  if [ ${#missing[@]} -gt 0 ]; then
+    echo "== Installing Debian packages: ${missing[*]}"
+    local sudo=""
+    [ "$(id -u)" -eq 0 ] || sudo="sudo"
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}" >/dev/null
+  fi
+}
+
+# tkr_build BUILD_TYPE BUILD_DIR [extra cmake arguments...]
+tkr_build() {
+  local type=$1 dir=$2
+  shift 2
+  echo "== Configuring ($type) in $dir"
+  cmake -S "$TKR_ROOT" -B "$dir" -DCMAKE_BUILD_TYPE="$type" "$@" >"$dir.cmake.log" 2>&1 ||
+    { cat "$dir.cmake.log"; return 1; }
+  echo "== Building tkr-wear ($type)"
+  cmake --build "$dir" --target tkr-wear -- -j"$TKR_JOBS"
+}

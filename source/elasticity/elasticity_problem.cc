@@ -1,0 +1,193 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#include <deal.II/base/timer.h>
+
+#include <deal.II/dofs/dof_tools.h>
+
+#include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include <tkr/elasticity/elasticity_problem.h>
+#include <tkr/elasticity/stress_postprocessor.h>
+#include <tkr/mesh/mesh.h>
+#include <tkr/output/vtu_output.h>
+
+#include <iomanip>
+
+namespace TKR::Elasticity
+{
+  using namespace dealii;
+
+  ElasticityProblem::ElasticityProblem(
+    const Parameters::AllParameters &parameters,
+    const MPI_Comm                   mpi_communicator)
+    : parameters(parameters)
+    , mpi_communicator(mpi_communicator)
+    , pcout(std::cout, Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+    , timer(mpi_communicator,
+            pcout,
+            parameters.output.testing ? TimerOutput::never :
+                                        TimerOutput::summary,
+            TimerOutput::wall_times)
+    , triangulation(mpi_communicator,
+                    Triangulation<3>::none,
+                    /*allow_artificial_cells=*/false,
+                    parallel::shared::Triangulation<3>::partition_metis)
+    , elasticity(triangulation,
+                 parameters.materials,
+                 parameters.linear_solver,
+                 parameters.mesh.fe_degree,
+                 mpi_communicator,
+                 timer)
+  {}
+
+  void
+  ElasticityProblem::make_grid()
+  {
+    TimerOutput::Scope scope(timer, "read mesh");
+    Mesh::read_mesh(parameters.mesh, triangulation);
+    const auto statistics = Mesh::compute_statistics(triangulation);
+    // Regression tests run on other machines: print no absolute path there.
+    const std::string file =
+      parameters.output.testing ?
+        parameters.mesh.file.substr(parameters.mesh.file.rfind('/') + 1) :
+        parameters.mesh.file;
+    pcout << "Mesh <" << file << ">: " << statistics.femur_cells << " femur + "
+          << statistics.tibia_cells << " tibia cells, " << statistics.n_vertices
+          << " vertices" << std::endl
+          << "  femur volume " << statistics.femur_volume
+          << " mm^3, tibia volume " << statistics.tibia_volume << " mm^3"
+          << std::endl;
+    for (const types::boundary_id id : {Mesh::BoundaryIds::femur_contact,
+                                        Mesh::BoundaryIds::femur_fixation,
+                                        Mesh::BoundaryIds::tibia_contact,
+                                        Mesh::BoundaryIds::tibia_inferior})
+      pcout << "  " << Mesh::boundary_name(id) << ": "
+            << statistics.boundary_area[id] << " mm^2" << std::endl;
+    summary.set("cells", statistics.femur_cells + statistics.tibia_cells);
+    summary.set("femur_volume_mm3", statistics.femur_volume);
+    summary.set("tibia_volume_mm3", statistics.tibia_volume);
+  }
+
+  void
+  ElasticityProblem::setup_system()
+  {
+    elasticity.distribute_dofs();
+    const auto &dof_handler = elasticity.get_dof_handler();
+
+    constraints.clear();
+    constraints.reinit(elasticity.locally_relevant_dofs());
+    DoFTools::make_hanging_node_constraints(dof_handler, constraints);
+    for (const types::boundary_id id :
+         {Mesh::BoundaryIds::femur_fixation, Mesh::BoundaryIds::tibia_inferior})
+      VectorTools::interpolate_boundary_values(mapping,
+                                               dof_handler,
+                                               id,
+                                               Functions::ZeroFunction<3>(3),
+                                               constraints);
+    constraints.close();
+
+    elasticity.setup_system(constraints);
+    pcout << "Degrees of freedom: " << dof_handler.n_dofs() << " (FE_Q("
+          << parameters.mesh.fe_degree << ")^3), MPI ranks: "
+          << Utilities::MPI::n_mpi_processes(mpi_communicator) << std::endl;
+    summary.set("dofs", static_cast<unsigned long long>(dof_handler.n_dofs()));
+  }
+
+  void
+  ElasticityProblem::assemble_system()
+  {
+    const std::map<types::boundary_id, Tensor<1, 3>> tractions = {
+      {Mesh::BoundaryIds::femur_contact,
+       parameters.elasticity.femur_contact_traction},
+      {Mesh::BoundaryIds::tibia_contact,
+       parameters.elasticity.tibia_contact_traction}};
+    elasticity.assemble_system(mapping, constraints, tractions);
+  }
+
+  SolverStatistics
+  ElasticityProblem::solve()
+  {
+    elasticity.setup_preconditioner(mapping);
+    const SolverStatistics statistics = elasticity.solve(constraints);
+    pcout << "CG " << (statistics.converged ? "converged" : "did NOT converge");
+    if (!parameters.output.testing)
+      pcout << " in " << statistics.iterations
+            << " iterations, relative residual "
+            << statistics.relative_residual;
+    pcout << std::endl;
+    return statistics;
+  }
+
+  void
+  ElasticityProblem::output_results()
+  {
+    TimerOutput::Scope scope(timer, "output");
+    const auto        &dof_handler = elasticity.get_dof_handler();
+
+    DataOut<3> data_out;
+    data_out.attach_dof_handler(dof_handler);
+    const std::vector<DataComponentInterpretation::DataComponentInterpretation>
+      interpretation(3,
+                     DataComponentInterpretation::component_is_part_of_vector);
+    data_out.add_data_vector(elasticity.get_solution(),
+                             std::vector<std::string>(3, "displacement"),
+                             DataOut<3>::type_dof_data,
+                             interpretation);
+    const StressPostprocessor   stress(parameters.materials);
+    const VonMisesPostprocessor von_mises(parameters.materials);
+    data_out.add_data_vector(elasticity.get_solution(), stress);
+    data_out.add_data_vector(elasticity.get_solution(), von_mises);
+
+    Vector<float> material(triangulation.n_active_cells());
+    Vector<float> subdomain(triangulation.n_active_cells());
+    for (const auto &cell : triangulation.active_cell_iterators())
+      {
+        material(cell->active_cell_index())  = cell->material_id();
+        subdomain(cell->active_cell_index()) = cell->subdomain_id();
+      }
+    data_out.add_data_vector(material, "material_id");
+    data_out.add_data_vector(subdomain, "subdomain");
+    data_out.build_patches(mapping, parameters.mesh.fe_degree);
+
+    Output::VtuSeries series(parameters.output.directory,
+                             "solution",
+                             mpi_communicator);
+    series.write(data_out, 0, 0.);
+  }
+
+  bool
+  ElasticityProblem::run()
+  {
+    Timer wall_timer(mpi_communicator, /*sync_lap_times=*/true);
+    pcout << "tkr-wear: two-body linear elasticity without contact "
+          << "(Problem = elasticity)" << std::endl;
+    Output::create_directory(parameters.output.directory, mpi_communicator);
+    summary.set("problem", Parameters::to_string(parameters.problem));
+
+    make_grid();
+    setup_system();
+    assemble_system();
+    const SolverStatistics statistics = solve();
+
+    const double max_femur =
+      elasticity.max_displacement(Mesh::MaterialIds::femur);
+    const double max_tibia =
+      elasticity.max_displacement(Mesh::MaterialIds::tibia);
+    pcout << "Max displacement: femur " << 1e3 * max_femur << " um, tibia "
+          << 1e3 * max_tibia << " um" << std::endl;
+    if (parameters.output.vtu_interval > 0)
+      output_results();
+
+    summary.set("converged", statistics.converged);
+    summary.set("cg_iterations", statistics.iterations);
+    summary.set("max_displacement_femur_mm", max_femur);
+    summary.set("max_displacement_tibia_mm", max_tibia);
+    summary.set("mpi_ranks", Utilities::MPI::n_mpi_processes(mpi_communicator));
+    summary.set("wall_time_s", wall_timer.wall_time());
+    summary.write(parameters.output.directory, mpi_communicator);
+    pcout << "Results in <" << parameters.output.directory << "/>" << std::endl;
+    return statistics.converged;
+  }
+} // namespace TKR::Elasticity

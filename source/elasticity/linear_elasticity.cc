@@ -1,0 +1,262 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#include <deal.II/base/quadrature_lib.h>
+
+#include <deal.II/dofs/dof_tools.h>
+
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_values.h>
+
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/sparsity_tools.h>
+#include <deal.II/lac/trilinos_solver.h>
+#include <deal.II/lac/vector.h>
+
+#include <tkr/elasticity/linear_elasticity.h>
+#include <tkr/elasticity/rigid_body_modes.h>
+#include <tkr/mesh/mesh.h>
+
+#include <Teuchos_ParameterList.hpp>
+
+namespace TKR::Elasticity
+{
+  using namespace dealii;
+
+  SymmetricTensor<2, 3>
+  stress(const Parameters::Material  &material,
+         const SymmetricTensor<2, 3> &strain)
+  {
+    return material.lambda() * trace(strain) * unit_symmetric_tensor<3>() +
+           2. * material.mu() * strain;
+  }
+
+  const Parameters::Material &
+  material_of(const Parameters::Materials &materials,
+              const types::material_id     material_id)
+  {
+    return material_id == Mesh::MaterialIds::femur ? materials.femur :
+                                                     materials.tibia;
+  }
+
+  LinearElasticity::LinearElasticity(
+    const Triangulation<3>         &triangulation,
+    const Parameters::Materials    &materials,
+    const Parameters::LinearSolver &solver_parameters,
+    const unsigned int              fe_degree,
+    const MPI_Comm                  mpi_communicator,
+    TimerOutput                    &timer)
+    : materials(materials)
+    , solver_parameters(solver_parameters)
+    , mpi_communicator(mpi_communicator)
+    , timer(timer)
+    , fe(FE_Q<3>(fe_degree), 3)
+    , dof_handler(triangulation)
+  {}
+
+  void
+  LinearElasticity::distribute_dofs()
+  {
+    TimerOutput::Scope scope(timer, "distribute DoFs");
+    dof_handler.distribute_dofs(fe);
+    owned_dofs = dof_handler.locally_owned_dofs();
+    DoFTools::extract_locally_relevant_dofs(dof_handler, relevant_dofs);
+  }
+
+  void
+  LinearElasticity::setup_system(const AffineConstraints<double> &constraints)
+  {
+    TimerOutput::Scope     scope(timer, "setup system");
+    DynamicSparsityPattern dsp(relevant_dofs);
+    DoFTools::make_sparsity_pattern(dof_handler,
+                                    dsp,
+                                    constraints,
+                                    /*keep_constrained_dofs=*/false);
+    SparsityTools::distribute_sparsity_pattern(dsp,
+                                               owned_dofs,
+                                               mpi_communicator,
+                                               relevant_dofs);
+    system_matrix.reinit(owned_dofs, owned_dofs, dsp, mpi_communicator);
+    system_rhs.reinit(owned_dofs, mpi_communicator);
+    solution.reinit(owned_dofs, relevant_dofs, mpi_communicator);
+  }
+
+  // The bilinear form is $a(u,v) = \int_\Omega \varepsilon(v) : C :
+  // \varepsilon(u)$ with the material of each cell; the load is
+  // $\int_{\Gamma_N} t \cdot v$ for the uniform tractions $t$ given per
+  // boundary id. Constraints (Dirichlet data, later the contact conditions)
+  // are eliminated while copying local to global, which keeps the matrix
+  // symmetric and positive definite for CG.
+  void
+  LinearElasticity::assemble_system(
+    const Mapping<3>                                 &mapping,
+    const AffineConstraints<double>                  &constraints,
+    const std::map<types::boundary_id, Tensor<1, 3>> &tractions)
+  {
+    TimerOutput::Scope scope(timer, "assemble system");
+    system_matrix = 0;
+    system_rhs    = 0;
+
+    const QGauss<3> quadrature(fe.degree + 1);
+    const QGauss<2> face_quadrature(fe.degree + 1);
+    FEValues<3>     fe_values(mapping,
+                          fe,
+                          quadrature,
+                          update_gradients | update_JxW_values);
+    FEFaceValues<3> fe_face_values(mapping,
+                                   fe,
+                                   face_quadrature,
+                                   update_values | update_JxW_values);
+
+    const unsigned int dofs_per_cell = fe.n_dofs_per_cell();
+    FullMatrix<double> cell_matrix(dofs_per_cell, dofs_per_cell);
+    Vector<double>     cell_rhs(dofs_per_cell);
+    std::vector<types::global_dof_index> dof_indices(dofs_per_cell);
+    std::vector<SymmetricTensor<2, 3>>   strain(dofs_per_cell);
+    const FEValuesExtractors::Vector     displacement(0);
+
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          cell_matrix = 0;
+          cell_rhs    = 0;
+          fe_values.reinit(cell);
+          const auto &material = material_of(materials, cell->material_id());
+          for (const unsigned int q : fe_values.quadrature_point_indices())
+            {
+              for (unsigned int i = 0; i < dofs_per_cell; ++i)
+                strain[i] = fe_values[displacement].symmetric_gradient(i, q);
+              const double JxW = fe_values.JxW(q);
+              for (unsigned int i = 0; i < dofs_per_cell; ++i)
+                {
+                  const SymmetricTensor<2, 3> sigma_i =
+                    stress(material, strain[i]);
+                  for (unsigned int j = 0; j <= i; ++j)
+                    cell_matrix(i, j) += (sigma_i * strain[j]) * JxW;
+                }
+            }
+          for (unsigned int i = 0; i < dofs_per_cell; ++i)
+            for (unsigned int j = i + 1; j < dofs_per_cell; ++j)
+              cell_matrix(i, j) = cell_matrix(j, i);
+
+          for (const auto f : cell->face_indices())
+            if (cell->face(f)->at_boundary())
+              {
+                const auto traction =
+                  tractions.find(cell->face(f)->boundary_id());
+                if (traction == tractions.end())
+                  continue;
+                fe_face_values.reinit(cell, f);
+                for (const unsigned int q :
+                     fe_face_values.quadrature_point_indices())
+                  for (unsigned int i = 0; i < dofs_per_cell; ++i)
+                    cell_rhs(i) += traction->second *
+                                   fe_face_values[displacement].value(i, q) *
+                                   fe_face_values.JxW(q);
+              }
+
+          cell->get_dof_indices(dof_indices);
+          constraints.distribute_local_to_global(cell_matrix,
+                                                 cell_rhs,
+                                                 dof_indices,
+                                                 system_matrix,
+                                                 system_rhs);
+        }
+    system_matrix.compress(VectorOperation::add);
+    system_rhs.compress(VectorOperation::add);
+  }
+
+  // Smoothed-aggregation AMG for a vector-valued, elliptic problem. ML is
+  // told that there are three unknowns per node and gets the six rigid-body
+  // modes (or only the three translations) as near-null space; that is what
+  // keeps the iteration count independent of the mesh size for elasticity.
+  void
+  LinearElasticity::setup_preconditioner(const Mapping<3> &mapping)
+  {
+    TimerOutput::Scope                                scope(timer, "AMG setup");
+    TrilinosWrappers::PreconditionAMG::AdditionalData data;
+    data.elliptic              = true;
+    data.higher_order_elements = (fe.degree > 1);
+    data.smoother_sweeps       = 2;
+    data.aggregation_threshold = 0.02;
+
+    Teuchos::ParameterList              parameters;
+    std::unique_ptr<Epetra_MultiVector> translations;
+    data.set_parameters(parameters, translations, system_matrix);
+    parameters.set("PDE equations", 3);
+    if (solver_parameters.rigid_body_modes)
+      {
+        near_null_space =
+          rigid_body_modes(mapping,
+                           dof_handler,
+                           owned_dofs,
+                           system_matrix.trilinos_matrix().RowMap());
+        parameters.set("null space: type", "pre-computed");
+        parameters.set("null space: dimension", near_null_space->NumVectors());
+        parameters.set("null space: vectors", near_null_space->Values());
+      }
+    else
+      {
+        parameters.set("null space: type", "default vectors");
+        parameters.set("null space: dimension", 3);
+      }
+    preconditioner.initialize(system_matrix, parameters);
+  }
+
+  SolverStatistics
+  LinearElasticity::solve(const AffineConstraints<double> &constraints)
+  {
+    TimerOutput::Scope            scope(timer, "CG solve");
+    TrilinosWrappers::MPI::Vector owned_solution(owned_dofs, mpi_communicator);
+    SolverStatistics              statistics;
+    const double                  rhs_norm = system_rhs.l2_norm();
+    if (rhs_norm == 0.)
+      statistics.converged = true;
+    else
+      {
+        SolverControl              control(solver_parameters.max_iterations,
+                              solver_parameters.tolerance * rhs_norm,
+                              /*log_history=*/false,
+                              /*log_result=*/false);
+        TrilinosWrappers::SolverCG cg(control);
+        try
+          {
+            cg.solve(system_matrix, owned_solution, system_rhs, preconditioner);
+            statistics.converged = true;
+          }
+        catch (const SolverControl::NoConvergence &)
+          {
+            statistics.converged = false;
+          }
+        statistics.iterations        = control.last_step();
+        statistics.relative_residual = control.last_value() / rhs_norm;
+      }
+    constraints.distribute(owned_solution);
+    solution = owned_solution;
+    return statistics;
+  }
+
+  double
+  LinearElasticity::max_displacement(const types::material_id material) const
+  {
+    Vector<double> cell_values(fe.n_dofs_per_cell());
+    double         max_norm = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && cell->material_id() == material)
+        {
+          cell->get_dof_values(solution, cell_values);
+          for (unsigned int node = 0;
+               node < fe.base_element(0).n_dofs_per_cell();
+               ++node)
+            {
+              double norm_square = 0;
+              for (unsigned int d = 0; d < 3; ++d)
+                norm_square += Utilities::fixed_power<2>(
+                  cell_values(fe.component_to_system_index(d, node)));
+              max_norm = std::max(max_norm, std::sqrt(norm_square));
+            }
+        }
+    return Utilities::MPI::max(max_norm, mpi_communicator);
+  }
+} // namespace TKR::Elasticity

@@ -1,0 +1,136 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#include <tkr/base/exceptions.h>
+#include <tkr/output/summary.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace TKR::Output
+{
+  namespace
+  {
+    std::string
+    quote(const std::string &text)
+    {
+      std::string result = "\"";
+      for (const char c : text)
+        switch (c)
+          {
+            case '"':
+              result += "\\\"";
+              break;
+            case '\\':
+              result += "\\\\";
+              break;
+            case '\n':
+              result += "\\n";
+              break;
+            default:
+              result += c;
+          }
+      return result + "\"";
+    }
+  } // namespace
+
+  void
+  Summary::set_raw(const std::string &key, const std::string &json_value)
+  {
+    for (auto &entry : entries)
+      if (entry.first == key)
+        {
+          entry.second = json_value;
+          return;
+        }
+    entries.emplace_back(key, json_value);
+  }
+
+  void
+  Summary::set(const std::string &key, const double value)
+  {
+    if (!std::isfinite(value))
+      return set_raw(key, "null");
+    std::ostringstream out;
+    out << std::setprecision(12) << value;
+    set_raw(key, out.str());
+  }
+
+  void
+  Summary::set(const std::string &key, const int value)
+  {
+    set_raw(key, std::to_string(value));
+  }
+
+  void
+  Summary::set(const std::string &key, const unsigned int value)
+  {
+    set_raw(key, std::to_string(value));
+  }
+
+  void
+  Summary::set(const std::string &key, const unsigned long long value)
+  {
+    set_raw(key, std::to_string(value));
+  }
+
+  void
+  Summary::set(const std::string &key, const bool value)
+  {
+    set_raw(key, value ? "true" : "false");
+  }
+
+  void
+  Summary::set(const std::string &key, const std::string &value)
+  {
+    set_raw(key, quote(value));
+  }
+
+  void
+  Summary::set(const std::string &key, const char *value)
+  {
+    set(key, std::string(value));
+  }
+
+  std::string
+  Summary::to_json() const
+  {
+    std::string json = "{\n";
+    for (unsigned int i = 0; i < entries.size(); ++i)
+      json += "  " + quote(entries[i].first) + ": " + entries[i].second +
+              (i + 1 < entries.size() ? ",\n" : "\n");
+    return json + "}\n";
+  }
+
+  void
+  Summary::write(const std::string &directory,
+                 const MPI_Comm     mpi_communicator) const
+  {
+    if (dealii::Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
+      return;
+    const std::string filename = directory + "/summary.json";
+    std::ofstream     out(filename);
+    AssertThrow(out.good(), ExcInputError("Cannot write <" + filename + ">."));
+    out << to_json();
+  }
+
+  void
+  create_directory(const std::string &directory,
+                   const MPI_Comm     mpi_communicator)
+  {
+    std::string error;
+    if (dealii::Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+      {
+        std::error_code code;
+        std::filesystem::create_directories(directory, code);
+        if (code || !std::filesystem::is_directory(directory))
+          error = "Cannot create the output directory <" + directory +
+                  ">: " + (code ? code.message() : "not a directory") + ".";
+      }
+    error = dealii::Utilities::MPI::broadcast(mpi_communicator, error, 0);
+    AssertThrow(error.empty(), ExcInputError(error));
+  }
+} // namespace TKR::Output

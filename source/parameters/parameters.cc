@@ -1,0 +1,575 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#include <deal.II/base/utilities.h>
+
+#include <tkr/base/exceptions.h>
+#include <tkr/parameters/parameters.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace TKR::Parameters
+{
+  using namespace dealii;
+
+  namespace
+  {
+    /** Pattern of a vector "x, y, z". */
+    Patterns::List
+    vector_pattern()
+    {
+      return Patterns::List(Patterns::Double(), 3, 3, ",");
+    }
+
+    /** Read a "x, y, z" entry; the pattern has already been checked. */
+    Tensor<1, 3>
+    get_vector(ParameterHandler &prm, const std::string &name)
+    {
+      const std::vector<double> values = Utilities::string_to_double(
+        Utilities::split_string_list(prm.get(name), ','));
+      Tensor<1, 3> result;
+      for (unsigned int d = 0; d < 3; ++d)
+        result[d] = values[d];
+      return result;
+    }
+  } // namespace
+
+  void
+  Mesh::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Mesh");
+    {
+      prm.declare_entry("File",
+                        "meshes/tkr/tkr-a-coarse.msh",
+                        Patterns::FileName(),
+                        "The gmsh mesh (.msh, format 4.1) that holds both "
+                        "bodies as separate hexahedral volumes. Relative "
+                        "paths are relative to the working directory.");
+      prm.declare_entry("Finite element degree",
+                        "1",
+                        Patterns::Integer(1, 3),
+                        "Polynomial degree of the FE_Q displacement element.");
+      prm.declare_entry("Femur group",
+                        "femur",
+                        Patterns::Anything(),
+                        "Name of the physical volume of the femoral "
+                        "component.");
+      prm.declare_entry("Tibia group",
+                        "tibia",
+                        Patterns::Anything(),
+                        "Name of the physical volume of the tibial insert.");
+      prm.declare_entry("Femur contact group",
+                        "femur_contact",
+                        Patterns::Anything(),
+                        "Name of the physical surface of the femoral "
+                        "articular surface (mortar master side).");
+      prm.declare_entry("Femur fixation group",
+                        "femur_fixation",
+                        Patterns::Anything(),
+                        "Name of the physical surface of the femoral back "
+                        "side (clamped).");
+      prm.declare_entry("Tibia contact group",
+                        "tibia_contact",
+                        Patterns::Anything(),
+                        "Name of the physical surface of the tibial articular "
+                        "surface (mortar slave side, where wear lives).");
+      prm.declare_entry("Tibia inferior group",
+                        "tibia_inferior",
+                        Patterns::Anything(),
+                        "Name of the physical surface of the tibial back "
+                        "side (loads and springs act here).");
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  Mesh::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Mesh");
+    {
+      file                = prm.get("File");
+      fe_degree           = prm.get_integer("Finite element degree");
+      femur_name          = prm.get("Femur group");
+      tibia_name          = prm.get("Tibia group");
+      femur_contact_name  = prm.get("Femur contact group");
+      femur_fixation_name = prm.get("Femur fixation group");
+      tibia_contact_name  = prm.get("Tibia contact group");
+      tibia_inferior_name = prm.get("Tibia inferior group");
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  Material::declare_parameters(ParameterHandler &prm,
+                               const double      youngs_modulus,
+                               const double      poissons_ratio,
+                               const double      density)
+  {
+    prm.declare_entry("Young's modulus",
+                      Utilities::to_string(youngs_modulus),
+                      Patterns::Double(0, Patterns::Double::max_double_value),
+                      "Young's modulus E in MPa.");
+    prm.declare_entry("Poisson's ratio",
+                      Utilities::to_string(poissons_ratio),
+                      Patterns::Double(-0.999, 0.499),
+                      "Poisson's ratio nu (dimensionless).");
+    prm.declare_entry("Density",
+                      Utilities::to_string(density),
+                      Patterns::Double(0, Patterns::Double::max_double_value),
+                      "Density in mg/mm^3 (converts worn volume to mass).");
+  }
+
+  void
+  Material::parse_parameters(ParameterHandler &prm)
+  {
+    youngs_modulus = prm.get_double("Young's modulus");
+    poissons_ratio = prm.get_double("Poisson's ratio");
+    density        = prm.get_double("Density");
+    AssertThrow(youngs_modulus > 0,
+                ExcInputError("Young's modulus must be positive (got " +
+                              prm.get("Young's modulus") + ")."));
+  }
+
+  double
+  Material::lambda() const
+  {
+    return youngs_modulus * poissons_ratio /
+           ((1. + poissons_ratio) * (1. - 2. * poissons_ratio));
+  }
+
+  double
+  Material::mu() const
+  {
+    return youngs_modulus / (2. * (1. + poissons_ratio));
+  }
+
+  void
+  Materials::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Materials");
+    {
+      prm.enter_subsection("Femur");
+      Material::declare_parameters(prm, 220000., 0.31, 8.3);
+      prm.leave_subsection();
+      prm.enter_subsection("Tibia");
+      Material::declare_parameters(prm, 1100., 0.42, 0.935);
+      prm.leave_subsection();
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  Materials::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Materials");
+    {
+      prm.enter_subsection("Femur");
+      femur.parse_parameters(prm);
+      prm.leave_subsection();
+      prm.enter_subsection("Tibia");
+      tibia.parse_parameters(prm);
+      prm.leave_subsection();
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  Elasticity::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Elasticity");
+    {
+      prm.declare_entry("Femur contact traction",
+                        "0, 0, 1",
+                        vector_pattern(),
+                        "(Problem = elasticity) Uniform traction on the "
+                        "femoral contact surface, x,y,z in MPa. The femur is "
+                        "clamped on its fixation surface.");
+      prm.declare_entry("Tibia contact traction",
+                        "0, 0, -1",
+                        vector_pattern(),
+                        "(Problem = elasticity) Uniform traction on the "
+                        "tibial contact surface, x,y,z in MPa. The tibia is "
+                        "clamped on its inferior surface.");
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  Elasticity::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Elasticity");
+    {
+      femur_contact_traction = get_vector(prm, "Femur contact traction");
+      tibia_contact_traction = get_vector(prm, "Tibia contact traction");
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  StaticContact::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Static contact");
+    {
+      prm.declare_entry("Femur displacement",
+                        "0, 0, -0.01",
+                        vector_pattern(),
+                        "(Problem = contact) Displacement of the femoral "
+                        "fixation surface, x,y,z in mm.");
+      prm.declare_entry("Tibia inferior",
+                        "clamped",
+                        Patterns::Selection("clamped|loaded"),
+                        "(Problem = contact) clamped: zero displacement on "
+                        "the tibial inferior surface; loaded: the axial force "
+                        "acts there and the tibia is held only by contact.");
+      prm.declare_entry("Axial force",
+                        "1000",
+                        Patterns::Double(0, Patterns::Double::max_double_value),
+                        "(Problem = contact, Tibia inferior = loaded) Force "
+                        "on the tibial inferior surface along +z, in N.");
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  StaticContact::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Static contact");
+    {
+      femur_displacement = get_vector(prm, "Femur displacement");
+      tibia_inferior =
+        (prm.get("Tibia inferior") == "loaded" ? TibiaSupport::loaded :
+                                                 TibiaSupport::clamped);
+      axial_force = prm.get_double("Axial force");
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  Gait::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Gait");
+    {
+      prm.declare_entry("Waveform file",
+                        "data/iso14243-1.csv",
+                        Patterns::FileName(),
+                        "CSV table of the gait cycle: percent of cycle, "
+                        "flexion angle (deg), axial force (N), AP force (N), "
+                        "IE torque (N m).");
+      prm.declare_entry("Steps per cycle",
+                        "100",
+                        Patterns::Integer(1),
+                        "Number of quasi-static contact solves per cycle.");
+      prm.declare_entry("Flexion axis point",
+                        "0, 0, 40",
+                        vector_pattern(),
+                        "A point (mm) on the flexion axis, which is parallel "
+                        "to x.");
+      prm.declare_entry("Medial side",
+                        "+x",
+                        Patterns::Selection("+x|-x"),
+                        "Which direction of x is medial (left and right "
+                        "knees differ).");
+      prm.declare_entry("Axial load offset",
+                        "0.07",
+                        Patterns::Double(-0.5, 0.5),
+                        "Medial offset of the axial load line, as a fraction "
+                        "of the medial-lateral width of the insert.");
+      prm.declare_entry("AP spring stiffness",
+                        "9.3",
+                        Patterns::Double(0),
+                        "Anterior-posterior restraint spring, N/mm.");
+      prm.declare_entry("IE spring stiffness",
+                        "130",
+                        Patterns::Double(0),
+                        "Internal-external rotation restraint spring, "
+                        "N mm/deg.");
+      prm.declare_entry("AP force sign",
+                        "1",
+                        Patterns::Selection("1|-1"),
+                        "Multiplies the tabulated AP force: +1 keeps the "
+                        "table's convention (positive = force on the tibia "
+                        "towards anterior, +y).");
+      prm.declare_entry("IE torque sign",
+                        "1",
+                        Patterns::Selection("1|-1"),
+                        "Multiplies the tabulated IE torque: +1 keeps the "
+                        "table's convention (positive = internal rotation of "
+                        "the tibia).");
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  Gait::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Gait");
+    {
+      waveform_file       = prm.get("Waveform file");
+      steps_per_cycle     = prm.get_integer("Steps per cycle");
+      flexion_axis_point  = Point<3>(get_vector(prm, "Flexion axis point"));
+      medial_direction    = (prm.get("Medial side") == "+x" ? 1 : -1);
+      axial_load_offset   = prm.get_double("Axial load offset");
+      ap_spring_stiffness = prm.get_double("AP spring stiffness");
+      ie_spring_stiffness = prm.get_double("IE spring stiffness");
+      ap_force_sign       = prm.get_double("AP force sign");
+      ie_torque_sign      = prm.get_double("IE torque sign");
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  Wear::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Wear");
+    {
+      prm.declare_entry("Wear coefficient",
+                        "2e-7",
+                        Patterns::Double(0),
+                        "Archard wear coefficient k in mm^3/(N m).");
+      prm.declare_entry("Cycles",
+                        "5e6",
+                        Patterns::Double(0),
+                        "Number of gait cycles to simulate.");
+      prm.declare_entry("Cycles per extrapolation step",
+                        "5e4",
+                        Patterns::Double(1),
+                        "n_Delta: the wear of one computed cycle is "
+                        "multiplied by this number before the worn surface "
+                        "is moved.");
+      prm.declare_entry("Wear area threshold",
+                        "1e-4",
+                        Patterns::Double(0),
+                        "Wear depth in mm above which a point of the tibial "
+                        "contact surface counts towards the wear area.");
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  Wear::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Wear");
+    {
+      wear_coefficient = prm.get_double("Wear coefficient");
+      cycles           = prm.get_double("Cycles");
+      cycles_per_extrapolation_step =
+        prm.get_double("Cycles per extrapolation step");
+      wear_area_threshold = prm.get_double("Wear area threshold");
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  ContactSolver::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Contact solver");
+    {
+      prm.declare_entry("Solver",
+                        "active set",
+                        Patterns::Selection("active set|ipopt"),
+                        "active set: primal-dual active set (semismooth "
+                        "Newton) with AMG-preconditioned CG; ipopt: the same "
+                        "discrete problem as a convex QP solved by Ipopt "
+                        "(reference, slow).");
+      prm.declare_entry("Tolerance",
+                        "1e-8",
+                        Patterns::Double(0),
+                        "Relative residual at which a contact solve with an "
+                        "unchanged active set counts as converged.");
+      prm.declare_entry("Max iterations",
+                        "50",
+                        Patterns::Integer(1),
+                        "Maximum number of active-set (Newton) iterations.");
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  ContactSolver::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Contact solver");
+    {
+      algorithm      = (prm.get("Solver") == "ipopt" ? ContactAlgorithm::ipopt :
+                                                       ContactAlgorithm::active_set);
+      tolerance      = prm.get_double("Tolerance");
+      max_iterations = prm.get_integer("Max iterations");
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  LinearSolver::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Linear solver");
+    {
+      prm.declare_entry("Tolerance",
+                        "1e-10",
+                        Patterns::Double(0),
+                        "Relative residual reduction of the CG solver.");
+      prm.declare_entry("Max iterations",
+                        "2000",
+                        Patterns::Integer(1),
+                        "Maximum number of CG iterations.");
+      prm.declare_entry("Rigid body modes",
+                        "true",
+                        Patterns::Bool(),
+                        "Give Trilinos ML the six rigid-body modes as "
+                        "near-null space (false: the three translations).");
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  LinearSolver::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Linear solver");
+    {
+      tolerance        = prm.get_double("Tolerance");
+      max_iterations   = prm.get_integer("Max iterations");
+      rigid_body_modes = prm.get_bool("Rigid body modes");
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  Output::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Output");
+    {
+      prm.declare_entry("Directory",
+                        "output",
+                        Patterns::DirectoryName(),
+                        "Where summary.json, VTU/PVD files and checkpoints "
+                        "go. Created if missing.");
+      prm.declare_entry("VTU interval",
+                        "1",
+                        Patterns::Integer(0),
+                        "Write VTU output every this many steps (0: never).");
+      prm.declare_entry("Checkpoint interval",
+                        "10",
+                        Patterns::Integer(0),
+                        "Write a checkpoint every this many extrapolation "
+                        "steps (0: never).");
+      prm.declare_entry("Testing",
+                        "false",
+                        Patterns::Bool(),
+                        "Leave timings and wall-clock numbers out of the "
+                        "screen output, for regression tests.");
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  Output::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Output");
+    {
+      directory           = prm.get("Directory");
+      vtu_interval        = prm.get_integer("VTU interval");
+      checkpoint_interval = prm.get_integer("Checkpoint interval");
+      testing             = prm.get_bool("Testing");
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  AllParameters::declare_parameters(ParameterHandler &prm)
+  {
+    prm.declare_entry("Problem",
+                      "wear",
+                      Patterns::Selection("wear|contact|elasticity"),
+                      "wear: the ISO 14243-1 wear run; contact: one static "
+                      "contact solve; elasticity: both bodies loaded "
+                      "separately, without contact (demonstration).");
+    Mesh::declare_parameters(prm);
+    Materials::declare_parameters(prm);
+    Elasticity::declare_parameters(prm);
+    StaticContact::declare_parameters(prm);
+    Gait::declare_parameters(prm);
+    Wear::declare_parameters(prm);
+    ContactSolver::declare_parameters(prm);
+    LinearSolver::declare_parameters(prm);
+    Output::declare_parameters(prm);
+  }
+
+  void
+  AllParameters::parse_parameters(ParameterHandler &prm)
+  {
+    const std::string name = prm.get("Problem");
+    problem                = (name == "wear"    ? ProblemType::wear :
+                              name == "contact" ? ProblemType::contact :
+                                                  ProblemType::elasticity);
+    mesh.parse_parameters(prm);
+    materials.parse_parameters(prm);
+    elasticity.parse_parameters(prm);
+    static_contact.parse_parameters(prm);
+    gait.parse_parameters(prm);
+    wear.parse_parameters(prm);
+    contact_solver.parse_parameters(prm);
+    linear_solver.parse_parameters(prm);
+    output.parse_parameters(prm);
+  }
+
+  // ParameterHandler reports a bad line with an exception whose message
+  // already names the file and the line ("Line <7> of file <x.prm>: ...").
+  // We keep that message, drop deal.II's stack-trace header, and add the
+  // hint where to find the valid entries.
+  AllParameters
+  read_parameters(const std::string &filename)
+  {
+    AssertThrow(std::ifstream(filename).good(),
+                ExcInputError("Cannot open the parameter file <" + filename +
+                              ">: it does not exist or is not readable."));
+    ParameterHandler prm;
+    AllParameters::declare_parameters(prm);
+    try
+      {
+        prm.parse_input(filename);
+      }
+    catch (const ExceptionBase &exc)
+      {
+        AssertThrow(false,
+                    ExcInputError(
+                      exception_message(exc) +
+                      "\n(tkr-wear --print-parameters lists every valid "
+                      "entry with its documentation.)"));
+      }
+    AllParameters parameters;
+    try
+      {
+        parameters.parse_parameters(prm);
+      }
+    catch (const ExcInputError &exc)
+      {
+        AssertThrow(false,
+                    ExcInputError("Error in the parameter file <" + filename +
+                                  ">: " + exception_message(exc)));
+      }
+    parameters.parameter_file = filename;
+    return parameters;
+  }
+
+  void
+  print_default_parameters(std::ostream &out)
+  {
+    ParameterHandler prm;
+    AllParameters::declare_parameters(prm);
+    prm.print_parameters(out, ParameterHandler::PRM);
+  }
+
+  std::string
+  to_string(const ProblemType problem)
+  {
+    switch (problem)
+      {
+        case ProblemType::wear:
+          return "wear";
+        case ProblemType::contact:
+          return "contact";
+        case ProblemType::elasticity:
+          return "elasticity";
+      }
+    return "";
+  }
+} // namespace TKR::Parameters
