@@ -76,8 +76,9 @@ namespace TKR::Elasticity
     elasticity.distribute_dofs();
     const auto &dof_handler = elasticity.get_dof_handler();
 
+    // Every rank keeps the constraints of all DoFs (a shared triangulation
+    // knows all cells); LinearElasticity::setup_system() relies on that.
     constraints.clear();
-    constraints.reinit(elasticity.locally_relevant_dofs());
     DoFTools::make_hanging_node_constraints(dof_handler, constraints);
     for (const types::boundary_id id :
          {Mesh::BoundaryIds::femur_fixation, Mesh::BoundaryIds::tibia_inferior})
@@ -98,12 +99,12 @@ namespace TKR::Elasticity
   void
   ElasticityProblem::assemble_system()
   {
-    const std::map<types::boundary_id, Tensor<1, 3>> tractions = {
-      {Mesh::BoundaryIds::femur_contact,
-       parameters.elasticity.femur_contact_traction},
-      {Mesh::BoundaryIds::tibia_contact,
-       parameters.elasticity.tibia_contact_traction}};
-    elasticity.assemble_system(mapping, constraints, tractions);
+    BoundaryLoads loads;
+    loads.tractions = {{Mesh::BoundaryIds::femur_contact,
+                        parameters.elasticity.femur_contact_traction},
+                       {Mesh::BoundaryIds::tibia_contact,
+                        parameters.elasticity.tibia_contact_traction}};
+    elasticity.assemble_system(mapping, constraints, loads);
   }
 
   SolverStatistics

@@ -10,7 +10,6 @@
 
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/full_matrix.h>
-#include <deal.II/lac/sparsity_tools.h>
 #include <deal.II/lac/trilinos_solver.h>
 #include <deal.II/lac/vector.h>
 
@@ -64,98 +63,130 @@ namespace TKR::Elasticity
     DoFTools::extract_locally_relevant_dofs(dof_handler, relevant_dofs);
   }
 
+  // Every rank of a parallel::shared::Triangulation knows all cells and
+  // (here) all constraints, so each builds the rows it owns from all cells
+  // without communication. That includes rows that contact constraints
+  // couple to DoFs far away in the mesh (slave rows eliminated onto master
+  // DoFs), which a cell-local pattern plus the usual exchange would miss.
   void
   LinearElasticity::setup_system(const AffineConstraints<double> &constraints)
   {
-    TimerOutput::Scope     scope(timer, "setup system");
-    DynamicSparsityPattern dsp(relevant_dofs);
-    DoFTools::make_sparsity_pattern(dof_handler,
-                                    dsp,
-                                    constraints,
-                                    /*keep_constrained_dofs=*/false);
-    SparsityTools::distribute_sparsity_pattern(dsp,
-                                               owned_dofs,
-                                               mpi_communicator,
-                                               relevant_dofs);
+    TimerOutput::Scope                   scope(timer, "setup system");
+    DynamicSparsityPattern               dsp(dof_handler.n_dofs(),
+                               dof_handler.n_dofs(),
+                               owned_dofs);
+    std::vector<types::global_dof_index> dof_indices(fe.n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (!cell->is_artificial())
+        {
+          cell->get_dof_indices(dof_indices);
+          constraints.add_entries_local_to_global(dof_indices,
+                                                  dsp,
+                                                  /*keep_constrained=*/false);
+        }
     system_matrix.reinit(owned_dofs, owned_dofs, dsp, mpi_communicator);
     system_rhs.reinit(owned_dofs, mpi_communicator);
     solution.reinit(owned_dofs, relevant_dofs, mpi_communicator);
   }
 
   // The bilinear form is $a(u,v) = \int_\Omega \varepsilon(v) : C :
-  // \varepsilon(u)$ with the material of each cell; the load is
+  // \varepsilon(u) + \int_{\Gamma_S} v \cdot S u$ with the material of each
+  // cell and the distributed springs S; the load is
   // $\int_{\Gamma_N} t \cdot v$ for the uniform tractions $t$ given per
-  // boundary id. Constraints (Dirichlet data, later the contact conditions)
-  // are eliminated while copying local to global, which keeps the matrix
-  // symmetric and positive definite for CG.
+  // boundary id.
+  void
+  LinearElasticity::local_assemble(
+    const typename DoFHandler<3>::active_cell_iterator &cell,
+    FEValues<3>                                        &fe_values,
+    FEFaceValues<3>                                    &fe_face_values,
+    const BoundaryLoads                                &loads,
+    FullMatrix<double>                                 &cell_matrix,
+    Vector<double>                                     &cell_rhs) const
+  {
+    const unsigned int                 dofs_per_cell = fe.n_dofs_per_cell();
+    const FEValuesExtractors::Vector   displacement(0);
+    std::vector<SymmetricTensor<2, 3>> strain(dofs_per_cell);
+    cell_matrix = 0;
+    cell_rhs    = 0;
+    fe_values.reinit(cell);
+    const auto &material = material_of(materials, cell->material_id());
+    for (const unsigned int q : fe_values.quadrature_point_indices())
+      {
+        for (unsigned int i = 0; i < dofs_per_cell; ++i)
+          strain[i] = fe_values[displacement].symmetric_gradient(i, q);
+        const double JxW = fe_values.JxW(q);
+        for (unsigned int i = 0; i < dofs_per_cell; ++i)
+          {
+            const SymmetricTensor<2, 3> sigma_i = stress(material, strain[i]);
+            for (unsigned int j = 0; j <= i; ++j)
+              cell_matrix(i, j) += (sigma_i * strain[j]) * JxW;
+          }
+      }
+    for (unsigned int i = 0; i < dofs_per_cell; ++i)
+      for (unsigned int j = i + 1; j < dofs_per_cell; ++j)
+        cell_matrix(i, j) = cell_matrix(j, i);
+
+    for (const auto f : cell->face_indices())
+      if (cell->face(f)->at_boundary())
+        {
+          const auto id       = cell->face(f)->boundary_id();
+          const auto traction = loads.tractions.find(id);
+          const auto spring   = loads.springs.find(id);
+          if (traction == loads.tractions.end() &&
+              spring == loads.springs.end())
+            continue;
+          fe_face_values.reinit(cell, f);
+          for (const unsigned int q : fe_face_values.quadrature_point_indices())
+            for (unsigned int i = 0; i < dofs_per_cell; ++i)
+              {
+                const Tensor<1, 3> v_i =
+                  fe_face_values[displacement].value(i, q);
+                const double JxW = fe_face_values.JxW(q);
+                if (traction != loads.tractions.end())
+                  cell_rhs(i) += traction->second * v_i * JxW;
+                if (spring != loads.springs.end())
+                  for (unsigned int j = 0; j < dofs_per_cell; ++j)
+                    cell_matrix(i, j) +=
+                      v_i *
+                      (spring->second *
+                       fe_face_values[displacement].value(j, q)) *
+                      JxW;
+              }
+        }
+  }
+
+  // Constraints (Dirichlet data, the contact conditions) are eliminated
+  // while copying local to global, which keeps the matrix symmetric and
+  // positive definite for CG.
   void
   LinearElasticity::assemble_system(
-    const Mapping<3>                                 &mapping,
-    const AffineConstraints<double>                  &constraints,
-    const std::map<types::boundary_id, Tensor<1, 3>> &tractions)
+    const Mapping<3>                &mapping,
+    const AffineConstraints<double> &constraints,
+    const BoundaryLoads             &loads)
   {
     TimerOutput::Scope scope(timer, "assemble system");
     system_matrix = 0;
     system_rhs    = 0;
-
-    const QGauss<3> quadrature(fe.degree + 1);
-    const QGauss<2> face_quadrature(fe.degree + 1);
-    FEValues<3>     fe_values(mapping,
+    FEValues<3>        fe_values(mapping,
                           fe,
-                          quadrature,
+                          QGauss<3>(fe.degree + 1),
                           update_gradients | update_JxW_values);
-    FEFaceValues<3> fe_face_values(mapping,
+    FEFaceValues<3>    fe_face_values(mapping,
                                    fe,
-                                   face_quadrature,
+                                   QGauss<2>(fe.degree + 1),
                                    update_values | update_JxW_values);
-
-    const unsigned int dofs_per_cell = fe.n_dofs_per_cell();
-    FullMatrix<double> cell_matrix(dofs_per_cell, dofs_per_cell);
-    Vector<double>     cell_rhs(dofs_per_cell);
-    std::vector<types::global_dof_index> dof_indices(dofs_per_cell);
-    std::vector<SymmetricTensor<2, 3>>   strain(dofs_per_cell);
-    const FEValuesExtractors::Vector     displacement(0);
-
+    FullMatrix<double> cell_matrix(fe.n_dofs_per_cell(), fe.n_dofs_per_cell());
+    Vector<double>     cell_rhs(fe.n_dofs_per_cell());
+    std::vector<types::global_dof_index> dof_indices(fe.n_dofs_per_cell());
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          cell_matrix = 0;
-          cell_rhs    = 0;
-          fe_values.reinit(cell);
-          const auto &material = material_of(materials, cell->material_id());
-          for (const unsigned int q : fe_values.quadrature_point_indices())
-            {
-              for (unsigned int i = 0; i < dofs_per_cell; ++i)
-                strain[i] = fe_values[displacement].symmetric_gradient(i, q);
-              const double JxW = fe_values.JxW(q);
-              for (unsigned int i = 0; i < dofs_per_cell; ++i)
-                {
-                  const SymmetricTensor<2, 3> sigma_i =
-                    stress(material, strain[i]);
-                  for (unsigned int j = 0; j <= i; ++j)
-                    cell_matrix(i, j) += (sigma_i * strain[j]) * JxW;
-                }
-            }
-          for (unsigned int i = 0; i < dofs_per_cell; ++i)
-            for (unsigned int j = i + 1; j < dofs_per_cell; ++j)
-              cell_matrix(i, j) = cell_matrix(j, i);
-
-          for (const auto f : cell->face_indices())
-            if (cell->face(f)->at_boundary())
-              {
-                const auto traction =
-                  tractions.find(cell->face(f)->boundary_id());
-                if (traction == tractions.end())
-                  continue;
-                fe_face_values.reinit(cell, f);
-                for (const unsigned int q :
-                     fe_face_values.quadrature_point_indices())
-                  for (unsigned int i = 0; i < dofs_per_cell; ++i)
-                    cell_rhs(i) += traction->second *
-                                   fe_face_values[displacement].value(i, q) *
-                                   fe_face_values.JxW(q);
-              }
-
+          local_assemble(cell,
+                         fe_values,
+                         fe_face_values,
+                         loads,
+                         cell_matrix,
+                         cell_rhs);
           cell->get_dof_indices(dof_indices);
           constraints.distribute_local_to_global(cell_matrix,
                                                  cell_rhs,
@@ -165,6 +196,45 @@ namespace TKR::Elasticity
         }
     system_matrix.compress(VectorOperation::add);
     system_rhs.compress(VectorOperation::add);
+  }
+
+  void
+  LinearElasticity::compute_residual(
+    const Mapping<3>              &mapping,
+    const BoundaryLoads           &loads,
+    TrilinosWrappers::MPI::Vector &residual) const
+  {
+    TimerOutput::Scope scope(timer, "residual");
+    residual.reinit(owned_dofs, mpi_communicator);
+    FEValues<3>        fe_values(mapping,
+                          fe,
+                          QGauss<3>(fe.degree + 1),
+                          update_gradients | update_JxW_values);
+    FEFaceValues<3>    fe_face_values(mapping,
+                                   fe,
+                                   QGauss<2>(fe.degree + 1),
+                                   update_values | update_JxW_values);
+    FullMatrix<double> cell_matrix(fe.n_dofs_per_cell(), fe.n_dofs_per_cell());
+    Vector<double>     cell_rhs(fe.n_dofs_per_cell());
+    Vector<double>     cell_u(fe.n_dofs_per_cell());
+    Vector<double>     cell_Ku(fe.n_dofs_per_cell());
+    std::vector<types::global_dof_index> dof_indices(fe.n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          local_assemble(cell,
+                         fe_values,
+                         fe_face_values,
+                         loads,
+                         cell_matrix,
+                         cell_rhs);
+          cell->get_dof_values(solution, cell_u);
+          cell_matrix.vmult(cell_Ku, cell_u);
+          cell_rhs -= cell_Ku;
+          cell->get_dof_indices(dof_indices);
+          residual.add(dof_indices, cell_rhs);
+        }
+    residual.compress(VectorOperation::add);
   }
 
   // Smoothed-aggregation AMG for a vector-valued, elliptic problem. ML is
@@ -227,6 +297,11 @@ namespace TKR::Elasticity
           }
         catch (const SolverControl::NoConvergence &)
           {
+            statistics.converged = false;
+          }
+        catch (const ExceptionBase &)
+          {
+            // AztecOO reports a breakdown ("loss of precision") this way.
             statistics.converged = false;
           }
         statistics.iterations        = control.last_step();

@@ -210,25 +210,6 @@ namespace TKR::Mesh
                               "> contains cells that are not hexahedra; "
                               "tkr-wear needs an all-hexahedral mesh."));
 
-    const MeshStatistics statistics = compute_statistics(triangulation);
-    AssertThrow(statistics.femur_cells > 0 && statistics.tibia_cells > 0,
-                ExcInputError("The mesh file <" + filename + "> has " +
-                              std::to_string(statistics.femur_cells) +
-                              " femur and " +
-                              std::to_string(statistics.tibia_cells) +
-                              " tibia cells; both bodies need cells."));
-    for (const types::boundary_id id : {BoundaryIds::femur_contact,
-                                        BoundaryIds::femur_fixation,
-                                        BoundaryIds::tibia_contact,
-                                        BoundaryIds::tibia_inferior})
-      AssertThrow(statistics.boundary_area[id] > 0,
-                  ExcInputError("The mesh file <" + filename +
-                                "> has no boundary face in the physical "
-                                "surface '" +
-                                boundary_name(id) +
-                                "' (the group exists but is empty, or its "
-                                "faces are not on the boundary)."));
-
     // A valid hexahedron has a positive Jacobian determinant at all eight
     // vertices. GridIn turns cells with negative volume around, so what can
     // remain are twisted or collapsed cells; deal.II cannot integrate on
@@ -262,6 +243,26 @@ namespace TKR::Mesh
                               std::to_string(n_bad) +
                               " inverted, twisted or degenerate cell(s); " +
                               "the first: " + first_bad + "."));
+
+    // Integrating (below) needs valid cells, so this comes second.
+    const MeshStatistics statistics = compute_statistics(triangulation);
+    AssertThrow(statistics.femur_cells > 0 && statistics.tibia_cells > 0,
+                ExcInputError("The mesh file <" + filename + "> has " +
+                              std::to_string(statistics.femur_cells) +
+                              " femur and " +
+                              std::to_string(statistics.tibia_cells) +
+                              " tibia cells; both bodies need cells."));
+    for (const types::boundary_id id : {BoundaryIds::femur_contact,
+                                        BoundaryIds::femur_fixation,
+                                        BoundaryIds::tibia_contact,
+                                        BoundaryIds::tibia_inferior})
+      AssertThrow(statistics.boundary_area[id] > 0,
+                  ExcInputError("The mesh file <" + filename +
+                                "> has no boundary face in the physical "
+                                "surface '" +
+                                boundary_name(id) +
+                                "' (the group exists but is empty, or its "
+                                "faces are not on the boundary)."));
   }
 
   MeshStatistics

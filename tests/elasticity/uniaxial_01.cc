@@ -109,7 +109,7 @@ main(int argc, char **argv)
   elasticity.distribute_dofs();
   const auto &dof_handler = elasticity.get_dof_handler();
 
-  AffineConstraints<double> constraints(elasticity.locally_relevant_dofs());
+  AffineConstraints<double> constraints;
   for (unsigned int d = 0; d < 3; ++d)
     {
       ComponentMask mask(3, false);
@@ -123,11 +123,11 @@ main(int argc, char **argv)
     }
   constraints.close();
   elasticity.setup_system(constraints);
-  elasticity.assemble_system(
-    mapping,
-    constraints,
-    {{TKR::Mesh::BoundaryIds::tibia_contact, Tensor<1, 3>({0, 0, -pressure})},
-     {TKR::Mesh::BoundaryIds::femur_contact, Tensor<1, 3>({0, 0, pressure})}});
+  TKR::Elasticity::BoundaryLoads loads;
+  loads.tractions = {
+    {TKR::Mesh::BoundaryIds::tibia_contact, Tensor<1, 3>({0, 0, -pressure})},
+    {TKR::Mesh::BoundaryIds::femur_contact, Tensor<1, 3>({0, 0, pressure})}};
+  elasticity.assemble_system(mapping, constraints, loads);
   elasticity.setup_preconditioner(mapping);
   const auto statistics = elasticity.solve(constraints);
   deallog << "DoFs: " << dof_handler.n_dofs() << std::endl;

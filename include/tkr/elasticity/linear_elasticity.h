@@ -11,9 +11,11 @@
 #include <deal.II/dofs/dof_handler.h>
 
 #include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/fe_values.h>
 #include <deal.II/fe/mapping.h>
 
 #include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/trilinos_vector.h>
@@ -40,6 +42,18 @@ namespace TKR::Elasticity
   const Parameters::Material &
   material_of(const Parameters::Materials     &materials,
               const dealii::types::material_id material_id);
+
+  /**
+   * Loads and supports on boundary parts, by boundary id: uniform tractions
+   * t (MPa) and distributed linear springs, traction = -S u with S in
+   * MPa/mm (a spring of total stiffness k N/mm spread uniformly over an
+   * area A has S = k/A in its direction).
+   */
+  struct BoundaryLoads
+  {
+    std::map<dealii::types::boundary_id, dealii::Tensor<1, 3>> tractions;
+    std::map<dealii::types::boundary_id, dealii::Tensor<2, 3>> springs;
+  };
 
   /** What a linear solve did. */
   struct SolverStatistics
@@ -82,15 +96,23 @@ namespace TKR::Elasticity
 
     /**
      * Assemble the stiffness matrix and the load vector on the geometry
-     * given by @p mapping, with uniform tractions (MPa) on the boundary ids
-     * in @p tractions, eliminating @p constraints (inhomogeneities
-     * included) as in step-8.
+     * given by @p mapping, with the boundary @p loads, eliminating
+     * @p constraints (inhomogeneities included) as in step-8.
      */
     void
     assemble_system(const dealii::Mapping<3>                &mapping,
                     const dealii::AffineConstraints<double> &constraints,
-                    const std::map<dealii::types::boundary_id,
-                                   dealii::Tensor<1, 3>>    &tractions);
+                    const BoundaryLoads                     &loads);
+
+    /**
+     * The residual r = f - K u of the unconstrained system for the current
+     * solution, in @p residual (locally owned entries). At a slave node in
+     * contact it is the contact force that the constraints exert.
+     */
+    void
+    compute_residual(const dealii::Mapping<3>              &mapping,
+                     const BoundaryLoads                   &loads,
+                     dealii::TrilinosWrappers::MPI::Vector &residual) const;
 
     /**
      * Build the ML AMG preconditioner of the current matrix with the
@@ -155,6 +177,15 @@ namespace TKR::Elasticity
     }
 
   private:
+    /** Cell matrix and load vector (no constraints applied). */
+    void
+    local_assemble(const dealii::DoFHandler<3>::active_cell_iterator &cell,
+                   dealii::FEValues<3>                               &fe_values,
+                   dealii::FEFaceValues<3>    &fe_face_values,
+                   const BoundaryLoads        &loads,
+                   dealii::FullMatrix<double> &cell_matrix,
+                   dealii::Vector<double>     &cell_rhs) const;
+
     const Parameters::Materials    materials;
     const Parameters::LinearSolver solver_parameters;
     const MPI_Comm                 mpi_communicator;

@@ -1,0 +1,124 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#ifndef tkr_contact_active_set_solver_h
+#define tkr_contact_active_set_solver_h
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
+
+#include <deal.II/fe/mapping.h>
+
+#include <deal.II/lac/affine_constraints.h>
+
+#include <tkr/elasticity/linear_elasticity.h>
+#include <tkr/mortar/mortar_coupling.h>
+#include <tkr/parameters/parameters.h>
+
+#include <vector>
+
+namespace TKR::Contact
+{
+  /**
+   * The state of the contact surface (per slave node): the active set and,
+   * after a solve, the contact pressure (the multiplier lambda_j, MPa,
+   * positive in compression) and the gap after deformation (mm).
+   */
+  struct ContactState
+  {
+    std::vector<bool>   active;
+    std::vector<double> pressure;
+    std::vector<double> gap;
+
+    /** Number of active nodes. */
+    unsigned int
+    n_active() const;
+  };
+
+  /** What a contact solve did. */
+  struct ContactStatistics
+  {
+    bool         converged           = false;
+    unsigned int newton_iterations   = 0;
+    unsigned int linear_iterations   = 0;
+    double       relative_residual   = 0;
+    unsigned int n_active            = 0;
+    /** Sum of D_jj over active nodes (mm^2). */
+    double contact_area = 0;
+    /** Resultant of the contact forces on the slave body (N). */
+    dealii::Tensor<1, 3> contact_force;
+    double               max_pressure = 0;
+  };
+
+  /**
+   * Primal-dual active set method (semismooth Newton, Hueber & Wohlmuth)
+   * for frictionless mortar contact between the two linear-elastic bodies
+   * (DESIGN.md section 4.4).
+   *
+   * On an active slave node j the condition
+   * n_j . (sum_k M_jk u_k - D_jj u_j) = -g_j becomes one AffineConstraints
+   * line on the node's dominant normal component. The condensed system is
+   * solved by CG with ML AMG; the multiplier follows from the residual of
+   * the unconstrained system, lambda_j = r_j . n_j / D_jj; the active set is
+   * updated with the complementarity function lambda_j - c_j g_j(u) with
+   * c_j = E_slave / h_j, which makes the update independent of units.
+   * Converged when the active set does not change and the linear solve met
+   * the tolerance. Repeating active sets (cycles) are detected; the next
+   * update then changes only the most violated node.
+   */
+  class ActiveSetSolver
+  {
+  public:
+    ActiveSetSolver(Elasticity::LinearElasticity        &elasticity,
+                    const Mortar::MortarCoupling         &coupling,
+                    const Parameters::ContactSolver      &parameters,
+                    const double                          slave_youngs_modulus,
+                    const MPI_Comm                        mpi_communicator,
+                    const dealii::ConditionalOStream     &pcout,
+                    dealii::TimerOutput                  &timer,
+                    const bool                            testing);
+
+    /**
+     * Set up the sparsity pattern for the current coupling (all covered
+     * slave nodes may become active) and the Dirichlet @p dirichlet
+     * constraints. Call after every MortarCoupling::reinit().
+     */
+    void
+    setup(const dealii::AffineConstraints<double> &dirichlet);
+
+    /**
+     * Solve the contact problem. @p state holds the initial active set (an
+     * empty vector: the nodes whose gap is at most @p initial_distance mm)
+     * and returns the final state.
+     */
+    ContactStatistics
+    solve(const dealii::Mapping<3>            &mapping,
+          const Elasticity::BoundaryLoads     &loads,
+          const double                         initial_distance,
+          ContactState                        &state);
+
+  private:
+    void
+    make_constraints(const std::vector<bool>           &active,
+                     dealii::AffineConstraints<double> &constraints) const;
+
+    /** Values of a distributed vector at the surface DoFs, on all ranks. */
+    std::vector<double>
+    gather(const dealii::TrilinosWrappers::MPI::Vector &vector) const;
+
+    Elasticity::LinearElasticity        &elasticity;
+    const Mortar::MortarCoupling        &coupling;
+    const Parameters::ContactSolver      parameters;
+    const double                         slave_youngs_modulus;
+    const MPI_Comm                       mpi_communicator;
+    const dealii::ConditionalOStream    &pcout;
+    dealii::TimerOutput                 &timer;
+    const bool                           testing;
+
+    dealii::AffineConstraints<double> dirichlet;
+    /** Slave node DoFs (3 per node) followed by master node DoFs. */
+    std::vector<dealii::types::global_dof_index> surface_dofs;
+  };
+} // namespace TKR::Contact
+
+#endif

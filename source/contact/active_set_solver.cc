@@ -1,0 +1,255 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#include <deal.II/base/timer.h>
+
+#include <tkr/contact/active_set_solver.h>
+
+#include <algorithm>
+#include <limits>
+#include <iomanip>
+
+namespace TKR::Contact
+{
+  using namespace dealii;
+
+  unsigned int
+  ContactState::n_active() const
+  {
+    return std::count(active.begin(), active.end(), true);
+  }
+
+  ActiveSetSolver::ActiveSetSolver(Elasticity::LinearElasticity   &elasticity,
+                                   const Mortar::MortarCoupling    &coupling,
+                                   const Parameters::ContactSolver &parameters,
+                                   const double slave_youngs_modulus,
+                                   const MPI_Comm                    mpi_communicator,
+                                   const ConditionalOStream         &pcout,
+                                   TimerOutput                      &timer,
+                                   const bool                        testing)
+    : elasticity(elasticity)
+    , coupling(coupling)
+    , parameters(parameters)
+    , slave_youngs_modulus(slave_youngs_modulus)
+    , mpi_communicator(mpi_communicator)
+    , pcout(pcout)
+    , timer(timer)
+    , testing(testing)
+  {}
+
+  void
+  ActiveSetSolver::setup(const AffineConstraints<double> &dirichlet_constraints)
+  {
+    dirichlet.clear();
+    dirichlet.copy_from(dirichlet_constraints);
+
+    surface_dofs.clear();
+    for (const auto &node : coupling.slave_surface().nodes())
+      surface_dofs.insert(surface_dofs.end(), node.dofs.begin(), node.dofs.end());
+    for (const auto &node : coupling.master_surface().nodes())
+      surface_dofs.insert(surface_dofs.end(), node.dofs.begin(), node.dofs.end());
+
+    // The sparsity pattern must hold the couplings of every node that may
+    // become active, so that the matrix can be reused when the set changes.
+    std::vector<bool> all_covered(coupling.slave_nodes().size());
+    for (unsigned int j = 0; j < all_covered.size(); ++j)
+      all_covered[j] = coupling.slave_nodes()[j].covered;
+    AffineConstraints<double> constraints;
+    make_constraints(all_covered, constraints);
+    elasticity.setup_system(constraints);
+  }
+
+  // The mortar condition of node j, n_j . (sum_k M_jk u_k - D_jj u_j) = -g_j,
+  // solved for the component d in which n_j is largest:
+  // u_jd = sum_{e != d} (-n_je/n_jd) u_je
+  //        + sum_k sum_e M_jk n_je / (D_jj n_jd) u_ke + g_j / (D_jj n_jd).
+  void
+  ActiveSetSolver::make_constraints(const std::vector<bool>   &active,
+                                    AffineConstraints<double> &constraints) const
+  {
+    constraints.clear();
+    const auto &nodes        = coupling.slave_nodes();
+    const auto &slave_nodes  = coupling.slave_surface().nodes();
+    const auto &master_nodes = coupling.master_surface().nodes();
+    for (unsigned int j = 0; j < nodes.size(); ++j)
+      {
+        if (!active[j])
+          continue;
+        const auto        &node = nodes[j];
+        const auto        &dofs = slave_nodes[j].dofs;
+        const Tensor<1, 3> n    = node.normal;
+        unsigned int       d    = 0;
+        for (unsigned int e = 1; e < 3; ++e)
+          if (std::abs(n[e]) > std::abs(n[d]))
+            d = e;
+        if (dirichlet.is_constrained(dofs[d]))
+          continue;
+        const double scale = 1. / (node.D * n[d]);
+        constraints.add_line(dofs[d]);
+        for (unsigned int e = 0; e < 3; ++e)
+          if (e != d)
+            constraints.add_entry(dofs[d], dofs[e], -n[e] / n[d]);
+        for (const auto &[k, M] : node.M)
+          for (unsigned int e = 0; e < 3; ++e)
+            if (M * n[e] != 0.)
+              constraints.add_entry(dofs[d],
+                                    master_nodes[k].dofs[e],
+                                    M * n[e] * scale);
+        constraints.set_inhomogeneity(dofs[d], node.weighted_gap * scale);
+      }
+    constraints.merge(dirichlet,
+                      AffineConstraints<double>::no_conflicts_allowed,
+                      /*allow_different_local_lines=*/true);
+    constraints.close();
+  }
+
+  std::vector<double>
+  ActiveSetSolver::gather(const TrilinosWrappers::MPI::Vector &vector) const
+  {
+    std::vector<double> values(surface_dofs.size(), 0.);
+    const IndexSet     &owned = vector.locally_owned_elements();
+    for (unsigned int i = 0; i < surface_dofs.size(); ++i)
+      if (owned.is_element(surface_dofs[i]))
+        values[i] = vector[surface_dofs[i]];
+    const int ierr = MPI_Allreduce(MPI_IN_PLACE,
+                                   values.data(),
+                                   values.size(),
+                                   MPI_DOUBLE,
+                                   MPI_SUM,
+                                   mpi_communicator);
+    AssertThrowMPI(ierr);
+    return values;
+  }
+
+  ContactStatistics
+  ActiveSetSolver::solve(const Mapping<3>                &mapping,
+                         const Elasticity::BoundaryLoads &loads,
+                         const double                     initial_distance,
+                         ContactState                    &state)
+  {
+    const auto        &nodes        = coupling.slave_nodes();
+    const unsigned int n_slave      = nodes.size();
+    const unsigned int master_start = 3 * n_slave;
+
+    if (state.active.size() != n_slave)
+      {
+        state.active.assign(n_slave, false);
+        for (unsigned int j = 0; j < n_slave; ++j)
+          state.active[j] =
+            nodes[j].covered &&
+            nodes[j].weighted_gap <= initial_distance * nodes[j].D;
+      }
+    state.pressure.assign(n_slave, 0.);
+    state.gap.assign(n_slave, std::numeric_limits<double>::quiet_NaN());
+
+    ContactStatistics              statistics;
+    std::vector<std::vector<bool>> history;
+    AffineConstraints<double>      constraints;
+    TrilinosWrappers::MPI::Vector  residual;
+    bool                           damped = false;
+
+    for (unsigned int iteration = 1; iteration <= parameters.max_iterations;
+         ++iteration)
+      {
+        Timer iteration_timer;
+        make_constraints(state.active, constraints);
+        elasticity.assemble_system(mapping, constraints, loads);
+        elasticity.setup_preconditioner(mapping);
+        const auto linear = elasticity.solve(constraints);
+        statistics.linear_iterations += linear.iterations;
+        statistics.relative_residual = linear.relative_residual;
+        statistics.newton_iterations = iteration;
+
+        elasticity.compute_residual(mapping, loads, residual);
+        const std::vector<double> r = gather(residual);
+        const std::vector<double> u = gather(elasticity.get_solution());
+
+        // Multipliers, gaps after deformation and the new active set.
+        std::vector<bool> next(n_slave, false);
+        std::vector<double> violation(n_slave, 0.);
+        for (unsigned int j = 0; j < n_slave; ++j)
+          {
+            const auto &node = nodes[j];
+            if (!node.covered)
+              continue;
+            Tensor<1, 3> r_j, mortar_u;
+            for (unsigned int e = 0; e < 3; ++e)
+              {
+                r_j[e] = r[3 * j + e];
+                mortar_u[e] = -node.D * u[3 * j + e];
+              }
+            for (const auto &[k, M] : node.M)
+              for (unsigned int e = 0; e < 3; ++e)
+                mortar_u[e] += M * u[master_start + 3 * k + e];
+            const double lambda = r_j * node.normal / node.D;
+            const double gap = (node.weighted_gap + node.normal * mortar_u) / node.D;
+            const double c   = slave_youngs_modulus / std::sqrt(node.D);
+            state.pressure[j] = lambda;
+            state.gap[j]      = gap;
+            next[j]           = (lambda - c * gap > 0);
+            // How far the node is from satisfying its present status.
+            violation[j] = state.active[j] ? std::max(0., -lambda) :
+                                             std::max(0., -c * gap);
+          }
+
+        unsigned int n_changed = 0;
+        for (unsigned int j = 0; j < n_slave; ++j)
+          n_changed += (next[j] != state.active[j]);
+
+        pcout << "    active set iteration " << std::setw(2) << iteration
+              << ": " << std::setw(6) << state.n_active() << " active, "
+              << std::setw(5) << n_changed << " changed";
+        if (!testing)
+          pcout << ", CG " << linear.iterations << " it., residual "
+                << std::scientific << std::setprecision(1)
+                << linear.relative_residual << std::defaultfloat
+                << std::setprecision(6) << ", " << std::fixed
+                << std::setprecision(2) << iteration_timer.wall_time() << " s"
+                << std::defaultfloat << std::setprecision(6);
+        pcout << std::endl;
+
+        if (!linear.converged)
+          {
+            pcout << "    the linear solver did not converge" << std::endl;
+            break;
+          }
+        if (n_changed == 0)
+          {
+            statistics.converged =
+              linear.relative_residual <= parameters.tolerance;
+            break;
+          }
+
+        // A set seen before means the iteration cycles: change only the
+        // node that violates its status most.
+        history.push_back(state.active);
+        if (std::find(history.begin(), history.end(), next) != history.end())
+          {
+            if (!damped)
+              pcout << "    the active set cycles: damped updates from now on"
+                    << std::endl;
+            damped = true;
+          }
+        if (damped)
+          {
+            const unsigned int worst =
+              std::max_element(violation.begin(), violation.end()) -
+              violation.begin();
+            next = state.active;
+            next[worst] = !next[worst];
+          }
+        state.active = next;
+      }
+
+    // Results on the final state.
+    for (unsigned int j = 0; j < n_slave; ++j)
+      if (state.active[j])
+        {
+          ++statistics.n_active;
+          statistics.contact_area += nodes[j].D;
+          statistics.contact_force -= state.pressure[j] * nodes[j].D * nodes[j].normal;
+          statistics.max_pressure = std::max(statistics.max_pressure, state.pressure[j]);
+        }
+    return statistics;
+  }
+} // namespace TKR::Contact

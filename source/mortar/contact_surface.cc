@@ -1,0 +1,88 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#include <deal.II/base/geometry_info.h>
+
+#include <deal.II/fe/fe.h>
+
+#include <tkr/base/exceptions.h>
+#include <tkr/mortar/contact_surface.h>
+#include <tkr/mortar/surface_geometry.h>
+
+#include <map>
+
+namespace TKR::Mortar
+{
+  using namespace dealii;
+
+  ContactSurface::ContactSurface(const DoFHandler<3>     &dof_handler,
+                                 const types::boundary_id boundary_id)
+  {
+    AssertThrow(dof_handler.get_fe().degree == 1,
+                ExcInputError("Contact needs Finite element degree = 1 "
+                              "(the mortar coupling is implemented for "
+                              "bilinear faces)."));
+    std::map<unsigned int, unsigned int> node_of_vertex;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      for (const auto f : cell->face_indices())
+        if (cell->face(f)->at_boundary() &&
+            cell->face(f)->boundary_id() == boundary_id)
+          {
+            const auto face = cell->face(f);
+            Face       entry;
+            for (unsigned int v = 0; v < 4; ++v)
+              {
+                const unsigned int vertex = face->vertex_index(v);
+                const auto [it, inserted] =
+                  node_of_vertex.emplace(vertex, node_list.size());
+                if (inserted)
+                  {
+                    Node node;
+                    node.vertex = vertex;
+                    for (unsigned int c = 0; c < 3; ++c)
+                      node.dofs[c] = face->vertex_dof_index(v, c);
+                    node_list.push_back(node);
+                  }
+                entry.nodes[v] = it->second;
+              }
+            for (unsigned int v = 0; v < 8; ++v)
+              entry.cell_vertices[v] = cell->vertex_index(v);
+            face_list.push_back(entry);
+          }
+
+    faces_of_node.resize(node_list.size());
+    for (unsigned int f = 0; f < face_list.size(); ++f)
+      for (const unsigned int n : face_list[f].nodes)
+        faces_of_node[n].push_back(f);
+  }
+
+  std::array<Point<3>, 4>
+  ContactSurface::face_vertices(const unsigned int           f,
+                                const std::vector<Point<3>> &positions) const
+  {
+    std::array<Point<3>, 4> x;
+    for (unsigned int v = 0; v < 4; ++v)
+      x[v] = positions[node_list[face_list[f].nodes[v]].vertex];
+    return x;
+  }
+
+  double
+  ContactSurface::orientation(const unsigned int           f,
+                              const std::vector<Point<3>> &positions) const
+  {
+    const BilinearQuad quad{face_vertices(f, positions)};
+    Point<3>           cell_centre;
+    for (const unsigned int v : face_list[f].cell_vertices)
+      cell_centre += positions[v] / 8.;
+    const Point2 centre(0.5, 0.5);
+    return (quad.area_normal(centre) * (quad.point(centre) - cell_centre) >= 0) ?
+             1. :
+             -1.;
+  }
+
+  std::vector<Point<3>>
+  vertex_positions(const DoFHandler<3> &dof_handler)
+  {
+    return dof_handler.get_triangulation().get_vertices();
+  }
+} // namespace TKR::Mortar
