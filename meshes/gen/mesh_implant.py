@@ -1,0 +1,423 @@
+#!/usr/bin/env python3
+"""mesh-implant: tagged hexahedral two-body mesh from a femoral component and a
+tibial insert given as STEP (or IGES/BREP) files or closed STL surfaces.
+
+    scripts/mesh-implant --femur FEMUR.step --insert INSERT.stl -o knee.msh
+
+Each body is meshed on its own with tetrahedra (gmsh, Delaunay), refined
+towards its articular faces, and every tetrahedron is split into four
+hexahedra (gmsh Mesh.SubdivisionAlgorithm = 2), so the hexahedra are about
+half the requested sizes.  The two bodies never share nodes.  Faces are
+assigned to the physical groups of DESIGN.md section 3 by the rules below
+(printed in a table; override with --*-faces using the face ids of that table):
+
+  insert (tibia)   tibia_inferior: faces with mean outward normal n_z < -0.9
+                                   and centroid within 5 % of the height of the
+                                   lowest point;
+                   tibia_contact:  faces with mean outward normal n_z > 0.3;
+                   other faces (sides) untagged = traction free.
+  femur            untagged:       faces with |n_x| > 0.8 (medial/lateral sides,
+                                   notch walls) and proximal end faces (n_z >
+                                   0.5, centroid in the top 15 % of the height);
+                   femur_contact:  faces whose outward normal points away from
+                                   the centre c of the femur's bounding box
+                                   (mean of n . (p - c)/|p - c| > 0);
+                   femur_fixation: the others (they face the bone).
+
+Positioning: the inputs must already use the project's axes (x medial-lateral,
+y anterior-posterior, z axial, femur above the insert).  With --offset the
+femur is translated by the given vector and nothing else.  Otherwise it is
+moved along z only, so that the smallest vertical distance between its
+articular surface and the insert's articular surface (both meshes) is --gap.
+
+Units: STEP/IGES files declare their unit and OpenCASCADE converts them to mm.
+STL has no unit: --units mm (default) or m says what its numbers are.
+"""
+import argparse
+import math
+import os
+import struct
+import sys
+import tempfile
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+
+import blockmesh  # noqa: E402
+
+import gmsh  # noqa: E402
+
+
+# ------------------------------------------------------------------ input
+def read_stl(path):
+    """Triangles (n, 3, 3) of an ASCII or binary STL file."""
+    with open(path, "rb") as f:
+        data = f.read()
+    if len(data) >= 84:
+        n = struct.unpack("<I", data[80:84])[0]
+        if 84 + 50 * n == len(data):
+            rec = np.frombuffer(data[84:], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)),
+                                                          ("a", "<u2")]), count=n)
+            return rec["v"].astype(float)
+    vals = []
+    for line in data.decode("ascii", "replace").splitlines():
+        s = line.split()
+        if s and s[0] == "vertex":
+            vals.append([float(t) for t in s[1:4]])
+    if not vals or len(vals) % 3:
+        raise SystemExit("error: %s is not a readable STL file" % path)
+    return np.array(vals).reshape(-1, 3, 3)
+
+
+def write_stl_binary(path, tris):
+    with open(path, "wb") as f:
+        f.write(b"mesh-implant".ljust(80, b" "))
+        f.write(struct.pack("<I", len(tris)))
+        for t in tris:
+            nrm = np.cross(t[1] - t[0], t[2] - t[0])
+            ln = np.linalg.norm(nrm)
+            nrm = nrm / ln if ln > 0 else nrm
+            f.write(struct.pack("<12fH", *nrm, *t.reshape(-1), 0))
+
+
+def load_geometry(path, units, feature_angle, tmpdir):
+    """Load one body into the current (empty) gmsh model; return its volume tag."""
+    ext = os.path.splitext(path)[1].lower()
+    if ext in (".step", ".stp", ".iges", ".igs", ".brep"):
+        gmsh.model.occ.importShapes(path)
+        gmsh.model.occ.synchronize()
+        vols = gmsh.model.getEntities(3)
+        if not vols:
+            raise SystemExit("error: %s contains no solid" % path)
+        if len(vols) > 1:
+            out, _ = gmsh.model.occ.fuse(vols[:1], vols[1:])
+            gmsh.model.occ.synchronize()
+            vols = [dt for dt in out if dt[0] == 3]
+            if len(vols) != 1:
+                raise SystemExit("error: %s holds %d disjoint solids" % (path, len(vols)))
+        return vols[0][1], None
+    if ext == ".stl":
+        tris = read_stl(path)
+        if units == "m":
+            tris = tris * 1000.0
+        tmp = os.path.join(tmpdir, "in-%d.stl" % len(os.listdir(tmpdir)))
+        write_stl_binary(tmp, tris)
+        gmsh.merge(tmp)
+        gmsh.model.mesh.removeDuplicateNodes()
+        gmsh.model.mesh.classifySurfaces(feature_angle * math.pi / 180, True, True, math.pi)
+        gmsh.model.mesh.createGeometry()
+        surfs = [t for _, t in gmsh.model.getEntities(2)]
+        loop = gmsh.model.geo.addSurfaceLoop(surfs)
+        vol = gmsh.model.geo.addVolume([loop])
+        gmsh.model.geo.synchronize()
+        return vol, tris
+    raise SystemExit("error: unknown file type %s (use .step/.stp/.iges/.brep/.stl)" % path)
+
+
+# --------------------------------------------------------- face statistics
+def face_table(vol):
+    """Per boundary face of volume `vol` of the current tetrahedral mesh:
+    area, centroid, area-weighted mean outward unit normal, and the mean of
+    n . (p - c)/|p - c| for c = centre of the bounding box."""
+    _, _, ntags = gmsh.model.mesh.getElements(3, vol)
+    etypes, _, _ = gmsh.model.mesh.getElements(3, vol)
+    tets = None
+    for t, nt in zip(etypes, ntags):
+        if t == 4:
+            tets = np.array(nt, dtype=np.int64).reshape(-1, 4)
+    if tets is None:
+        raise SystemExit("error: tetrahedral meshing failed")
+    opp = {}
+    for tet in tets:
+        for i in range(4):
+            f = tuple(sorted(np.delete(tet, i).tolist()))
+            opp[f] = tet[i]
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    X = np.zeros((int(tags.max()) + 1, 3))
+    X[tags.astype(np.int64)] = coords.reshape(-1, 3)
+    bb = gmsh.model.getBoundingBox(3, vol)
+    lo, hi = np.array(bb[:3]), np.array(bb[3:])
+    centre = 0.5 * (lo + hi)
+    rows = {}
+    for _, s in gmsh.model.getBoundary([(3, vol)], oriented=False):
+        s = abs(s)
+        et, _, nt = gmsh.model.mesh.getElements(2, s)
+        tri = None
+        for t, n in zip(et, nt):
+            if t == 2:
+                tri = np.array(n, dtype=np.int64).reshape(-1, 3)
+        if tri is None:
+            continue
+        area, cen, nrm, away = 0.0, np.zeros(3), np.zeros(3), 0.0
+        for t in tri:
+            p = X[t]
+            n = 0.5 * np.cross(p[1] - p[0], p[2] - p[0])
+            o = opp.get(tuple(sorted(t.tolist())))
+            if o is not None and np.dot(n, X[o] - p[0]) > 0:
+                n = -n
+            a = np.linalg.norm(n)
+            if a == 0:
+                continue
+            m = p.mean(axis=0)
+            area += a
+            cen += a * m
+            nrm += n
+            d = m - centre
+            away += np.dot(n, d) / (np.linalg.norm(d) + 1e-12)
+        if area == 0:
+            continue
+        rows[s] = dict(area=area, centroid=cen / area, normal=nrm / np.linalg.norm(nrm) if np.linalg.norm(nrm) > 0 else nrm,
+                       away=away / area)
+    return rows, lo, hi
+
+
+def face_table_stl(vol, tris):
+    """Like face_table, from the classified STL triangles (no volume mesh);
+    outward orientation from the STL file (made consistent by the sign of the
+    enclosed volume)."""
+    signed = np.einsum("ij,ij->i", tris[:, 0], np.cross(tris[:, 1], tris[:, 2])).sum() / 6.0
+    orient = {}
+    for t in tris:
+        n = np.cross(t[1] - t[0], t[2] - t[0])
+        key = tuple(sorted(tuple(np.round(p, 5)) for p in t))
+        orient[key] = n if signed > 0 else -n
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    X = np.zeros((int(tags.max()) + 1, 3))
+    X[tags.astype(np.int64)] = coords.reshape(-1, 3)
+    lo = tris.reshape(-1, 3).min(axis=0)
+    hi = tris.reshape(-1, 3).max(axis=0)
+    centre = 0.5 * (lo + hi)
+    rows = {}
+    for _, s in gmsh.model.getBoundary([(3, vol)], oriented=False):
+        s = abs(s)
+        et, _, nt = gmsh.model.mesh.getElements(2, s)
+        area, cen, nrm, away = 0.0, np.zeros(3), np.zeros(3), 0.0
+        for t, n in zip(et, nt):
+            if t != 2:
+                continue
+            for tri in np.array(n, dtype=np.int64).reshape(-1, 3):
+                p = X[tri]
+                nn = 0.5 * np.cross(p[1] - p[0], p[2] - p[0])
+                ref = orient.get(tuple(sorted(tuple(np.round(q, 5)) for q in p)))
+                if ref is not None and np.dot(ref, nn) < 0:
+                    nn = -nn
+                a = np.linalg.norm(nn)
+                if a == 0:
+                    continue
+                m = p.mean(axis=0)
+                d = m - centre
+                area += a
+                cen += a * m
+                nrm += nn
+                away += np.dot(nn, d) / (np.linalg.norm(d) + 1e-12)
+        if area > 0:
+            rows[s] = dict(area=area, centroid=cen / area, normal=nrm / max(np.linalg.norm(nrm), 1e-300),
+                           away=away / area)
+    return rows, lo, hi
+
+
+def classify(role, rows, lo, hi):
+    H = hi[2] - lo[2]
+    groups = {}
+    for s, r in rows.items():
+        n, c = r["normal"], r["centroid"]
+        g = None
+        if role == "tibia":
+            if n[2] < -0.9 and c[2] < lo[2] + 0.05 * H:
+                g = "tibia_inferior"
+            elif n[2] > 0.3:
+                g = "tibia_contact"
+        else:
+            if abs(n[0]) > 0.8:
+                g = None
+            elif n[2] > 0.5 and c[2] > lo[2] + 0.85 * H:
+                g = None
+            elif r["away"] > 0:
+                g = "femur_contact"
+            else:
+                g = "femur_fixation"
+        groups[s] = g
+    return groups
+
+
+def print_table(role, path, rows, groups):
+    print("%s (%s): faces" % (role, path))
+    print("   face    area mm2        centroid x y z            mean normal        group")
+    for s in sorted(rows):
+        r = rows[s]
+        print("  %5d %10.1f   %8.2f %8.2f %8.2f   %6.3f %6.3f %6.3f   %s"
+              % (s, r["area"], *r["centroid"], *r["normal"], groups.get(s) or "-"))
+
+
+# ----------------------------------------------------------------- meshing
+def mesh_body(role, path, args, tmpdir, linear=False):
+    gmsh.model.add(role)
+    vol, tris = load_geometry(path, args.units, args.feature_angle, tmpdir)
+    if tris is not None:
+        # STL: classify from the file's own triangles
+        rows, lo, hi = face_table_stl(vol, tris)
+    else:
+        # pass 1: coarse tetrahedra to classify the faces
+        gmsh.option.setNumber("Mesh.MeshSizeMax", 2.0 * args.size)
+        gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
+        gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 0)
+        gmsh.model.mesh.generate(3)
+        rows, lo, hi = face_table(vol)
+    groups = classify(role, rows, lo, hi)
+    names = (("femur_contact", "femur_fixation") if role == "femur" else ("tibia_contact", "tibia_inferior"))
+    for g in names:
+        override = getattr(args, g + "_faces")
+        if override:
+            ids = [int(t) for t in override.split(",") if t.strip()]
+            for s in list(groups):
+                if groups[s] == g:
+                    groups[s] = None
+            for s in ids:
+                if s not in rows:
+                    raise SystemExit("error: %s has no face %d" % (path, s))
+                groups[s] = g
+    print_table(role, path, rows, groups)
+    for g in names:
+        if not any(v == g for v in groups.values()):
+            raise SystemExit("error: no face of %s was assigned to %s; use --%s-faces"
+                             % (path, g, g.replace("_", "-")))
+    # pass 2: graded tetrahedra, split into hexahedra
+    if tris is None:
+        gmsh.model.mesh.clear()   # (an STL's discrete surfaces must keep their triangles)
+    contact = [s for s, g in groups.items() if g in ("femur_contact", "tibia_contact")]
+    f = gmsh.model.mesh.field.add("Distance")
+    gmsh.model.mesh.field.setNumbers(f, "SurfacesList", contact)
+    t = gmsh.model.mesh.field.add("Threshold")
+    gmsh.model.mesh.field.setNumber(t, "InField", f)
+    gmsh.model.mesh.field.setNumber(t, "SizeMin", args.contact_size)
+    gmsh.model.mesh.field.setNumber(t, "SizeMax", args.size)
+    gmsh.model.mesh.field.setNumber(t, "DistMin", 0.5 * args.contact_size)
+    gmsh.model.mesh.field.setNumber(t, "DistMax", args.grading_distance)
+    gmsh.model.mesh.field.setAsBackgroundMesh(t)
+    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeMax", args.size)
+    gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 2)
+    gmsh.option.setNumber("Mesh.SecondOrderLinear", 1 if linear else 0)
+    gmsh.model.mesh.generate(3)
+    # extract hexahedra and tagged quadrangles
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    X = np.zeros((int(tags.max()) + 1, 3))
+    X[tags.astype(np.int64)] = coords.reshape(-1, 3)
+    hexes = []
+    for et, _, nt in zip(*gmsh.model.mesh.getElements(3, vol)):
+        if et != 5:
+            raise SystemExit("error: meshing %s left elements of type %d" % (path, et))
+        hexes.append(np.array(nt, dtype=np.int64).reshape(-1, 8))
+    hexes = np.concatenate(hexes)
+    quads = {}
+    for s, g in groups.items():
+        if g is None:
+            continue
+        for et, _, nt in zip(*gmsh.model.mesh.getElements(2, s)):
+            if et != 3:
+                raise SystemExit("error: surface %d of %s has elements of type %d" % (s, path, et))
+            quads.setdefault(g, []).append(np.array(nt, dtype=np.int64).reshape(-1, 4))
+    used = np.unique(hexes)
+    renum = -np.ones(len(X), np.int64)
+    renum[used] = np.arange(len(used))
+    nodes = X[used]
+    hexes = blockmesh.orient_hexes(nodes, renum[hexes])
+    surfaces = {g: blockmesh.orient_quads_outward(nodes, hexes, renum[np.concatenate(q)])
+                for g, q in quads.items()}
+    return nodes, hexes, surfaces
+
+
+def mesh_body_robust(role, path, args, tmpdir):
+    """Subdivision places the new boundary nodes on the curved geometry; where
+    that inverts a hexahedron, mesh again with straight-sided subdivision
+    (Mesh.SecondOrderLinear = 1: the boundary is then the tetrahedral mesh's
+    polyhedral surface)."""
+    try:
+        return mesh_body(role, path, args, tmpdir)
+    except RuntimeError as e:
+        print("note: %s: %s; meshing again with straight-sided subdivision" % (role, e))
+        gmsh.model.remove()
+        return mesh_body(role, path, args, tmpdir, linear=True)
+
+
+def facing(nodes, quads, sign):
+    """Quads whose outward normal has sign(n_z) == sign."""
+    p = nodes[quads]
+    n = np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 1])
+    return quads[np.sign(n[:, 2]) == sign]
+
+
+def min_vertical_gap(fem, tib):
+    fn, _, fs = fem
+    tn, _, ts = tib
+    fq = facing(fn, fs["femur_contact"], -1)
+    tq = facing(tn, ts["tibia_contact"], +1)
+    g1 = blockmesh.vertical_gap(tn[np.unique(tq)], fn, fq)          # z_f - z_t at tibia nodes
+    g2 = -blockmesh.vertical_gap(fn[np.unique(fq)], tn, tq)         # z_f - z_t at femur nodes
+    g = np.concatenate([g1, g2])
+    g = g[~np.isnan(g)]
+    if len(g) == 0:
+        raise SystemExit("error: the articular surfaces do not overlap in the x-y plane; "
+                         "position the parts (--offset) or check the axes")
+    return float(g.min())
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="mesh-implant", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--femur", required=True, help="femoral component (.step/.stp/.iges/.brep/.stl)")
+    ap.add_argument("--insert", required=True, help="tibial insert (.step/.stp/.iges/.brep/.stl)")
+    ap.add_argument("-o", "--output", required=True, help="output .msh (ASCII 4.1)")
+    ap.add_argument("--units", choices=("mm", "m"), default="mm", help="unit of STL coordinates (default mm)")
+    ap.add_argument("--size", type=float, default=8.0,
+                    help="tetrahedron size away from the articular faces, mm (hexahedra are about half)")
+    ap.add_argument("--contact-size", type=float, default=4.0,
+                    help="tetrahedron size at the articular faces, mm")
+    ap.add_argument("--grading-distance", type=float, default=10.0,
+                    help="distance from the articular faces over which the size grows, mm")
+    ap.add_argument("--feature-angle", type=float, default=40.0,
+                    help="STL: angle (deg) between facets that splits faces")
+    ap.add_argument("--offset", help="DX,DY,DZ: translate the femur by this (mm) instead of "
+                                     "moving it along z to touch the insert")
+    ap.add_argument("--gap", type=float, default=1e-3, help="initial gap when touching (mm)")
+    for g in ("femur_contact", "femur_fixation", "tibia_contact", "tibia_inferior"):
+        ap.add_argument("--" + g.replace("_", "-") + "-faces", dest=g + "_faces",
+                        help="comma-separated face ids (see the table) for %s, replacing the rule" % g)
+    args = ap.parse_args(argv)
+
+    gmsh.initialize(["gmsh", "-v", "1"])
+    try:
+        with tempfile.TemporaryDirectory() as tmpdir:
+            fem = mesh_body_robust("femur", args.femur, args, tmpdir)
+            tib = mesh_body_robust("tibia", args.insert, args, tmpdir)
+    finally:
+        gmsh.finalize()
+    fn = fem[0].copy()
+    if args.offset:
+        d = np.array([float(t) for t in args.offset.split(",")])
+        if d.shape != (3,):
+            raise SystemExit("error: --offset needs DX,DY,DZ")
+        fn += d
+        fem = (fn, fem[1], fem[2])
+        print("femur translated by (%g, %g, %g) mm" % tuple(d))
+    else:
+        g0 = min_vertical_gap(fem, tib)
+        fn[:, 2] += args.gap - g0
+        fem = (fn, fem[1], fem[2])
+        print("femur moved along z by %+.4f mm to an initial gap of %g mm" % (args.gap - g0, args.gap))
+    print("smallest vertical gap between the articular surfaces: %.4f mm" % min_vertical_gap(fem, tib))
+    blockmesh.write_msh(args.output, {"femur": fem, "tibia": tib}, "mesh-implant")
+    s = blockmesh.summary({"femur": fem, "tibia": tib})
+    for b in ("femur", "tibia"):
+        print("%s: %d vertices, %d hexahedra, volume %.1f mm^3, min scaled corner Jacobian %.3f, quads %s"
+              % (b, s[b]["vertices"], s[b]["hexahedra"], s[b]["volume"], s[b]["min_quality"], s[b]["quads"]))
+    print("wrote %s (%d Q1 displacement DoFs)" % (args.output, 3 * (s["femur"]["vertices"] + s["tibia"]["vertices"])))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
