@@ -7,6 +7,7 @@
 #include <deal.II/base/mpi.h>
 
 #include <tkr/base/exceptions.h>
+#include <tkr/contact/contact_problem.h>
 #include <tkr/elasticity/elasticity_problem.h>
 #include <tkr/parameters/parameters.h>
 
@@ -41,6 +42,10 @@ namespace
             return problem.run() ? 0 : 1;
           }
         case Parameters::ProblemType::contact:
+          {
+            Contact::ContactProblem problem(parameters, mpi_communicator);
+            return problem.run() ? 0 : 1;
+          }
         case Parameters::ProblemType::wear:
           AssertThrow(false,
                       ExcInputError(
@@ -48,7 +53,7 @@ namespace
                         Parameters::to_string(parameters.problem) + " (in <" +
                         filename +
                         ">) is not implemented yet in this version of "
-                        "tkr-wear; Problem = elasticity is."));
+                        "tkr-wear; Problem = elasticity and contact are."));
       }
     return 1;
   }

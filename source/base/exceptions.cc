@@ -3,6 +3,7 @@
 
 #include <tkr/base/exceptions.h>
 
+#include <iomanip>
 #include <sstream>
 
 namespace TKR
@@ -19,5 +20,13 @@ namespace TKR
     if (first == std::string::npos)
       return exc.get_exc_name();
     return message.substr(first, last - first + 1);
+  }
+
+  std::string
+  format_number(const double value, const unsigned int digits)
+  {
+    std::ostringstream out;
+    out << std::setprecision(digits) << value;
+    return out.str();
   }
 } // namespace TKR

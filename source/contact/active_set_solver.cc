@@ -6,8 +6,8 @@
 #include <tkr/contact/active_set_solver.h>
 
 #include <algorithm>
-#include <limits>
 #include <iomanip>
+#include <limits>
 
 namespace TKR::Contact
 {
@@ -19,14 +19,14 @@ namespace TKR::Contact
     return std::count(active.begin(), active.end(), true);
   }
 
-  ActiveSetSolver::ActiveSetSolver(Elasticity::LinearElasticity   &elasticity,
+  ActiveSetSolver::ActiveSetSolver(Elasticity::LinearElasticity    &elasticity,
                                    const Mortar::MortarCoupling    &coupling,
                                    const Parameters::ContactSolver &parameters,
-                                   const double slave_youngs_modulus,
-                                   const MPI_Comm                    mpi_communicator,
-                                   const ConditionalOStream         &pcout,
-                                   TimerOutput                      &timer,
-                                   const bool                        testing)
+                                   const double   slave_youngs_modulus,
+                                   const MPI_Comm mpi_communicator,
+                                   const ConditionalOStream &pcout,
+                                   TimerOutput              &timer,
+                                   const bool                testing)
     : elasticity(elasticity)
     , coupling(coupling)
     , parameters(parameters)
@@ -45,9 +45,13 @@ namespace TKR::Contact
 
     surface_dofs.clear();
     for (const auto &node : coupling.slave_surface().nodes())
-      surface_dofs.insert(surface_dofs.end(), node.dofs.begin(), node.dofs.end());
+      surface_dofs.insert(surface_dofs.end(),
+                          node.dofs.begin(),
+                          node.dofs.end());
     for (const auto &node : coupling.master_surface().nodes())
-      surface_dofs.insert(surface_dofs.end(), node.dofs.begin(), node.dofs.end());
+      surface_dofs.insert(surface_dofs.end(),
+                          node.dofs.begin(),
+                          node.dofs.end());
 
     // The sparsity pattern must hold the couplings of every node that may
     // become active, so that the matrix can be reused when the set changes.
@@ -64,8 +68,9 @@ namespace TKR::Contact
   // u_jd = sum_{e != d} (-n_je/n_jd) u_je
   //        + sum_k sum_e M_jk n_je / (D_jj n_jd) u_ke + g_j / (D_jj n_jd).
   void
-  ActiveSetSolver::make_constraints(const std::vector<bool>   &active,
-                                    AffineConstraints<double> &constraints) const
+  ActiveSetSolver::make_constraints(
+    const std::vector<bool>   &active,
+    AffineConstraints<double> &constraints) const
   {
     constraints.clear();
     const auto &nodes        = coupling.slave_nodes();
@@ -135,9 +140,8 @@ namespace TKR::Contact
       {
         state.active.assign(n_slave, false);
         for (unsigned int j = 0; j < n_slave; ++j)
-          state.active[j] =
-            nodes[j].covered &&
-            nodes[j].weighted_gap <= initial_distance * nodes[j].D;
+          state.active[j] = nodes[j].covered && nodes[j].weighted_gap <=
+                                                  initial_distance * nodes[j].D;
       }
     state.pressure.assign(n_slave, 0.);
     state.gap.assign(n_slave, std::numeric_limits<double>::quiet_NaN());
@@ -165,7 +169,7 @@ namespace TKR::Contact
         const std::vector<double> u = gather(elasticity.get_solution());
 
         // Multipliers, gaps after deformation and the new active set.
-        std::vector<bool> next(n_slave, false);
+        std::vector<bool>   next(n_slave, false);
         std::vector<double> violation(n_slave, 0.);
         for (unsigned int j = 0; j < n_slave; ++j)
           {
@@ -175,21 +179,22 @@ namespace TKR::Contact
             Tensor<1, 3> r_j, mortar_u;
             for (unsigned int e = 0; e < 3; ++e)
               {
-                r_j[e] = r[3 * j + e];
+                r_j[e]      = r[3 * j + e];
                 mortar_u[e] = -node.D * u[3 * j + e];
               }
             for (const auto &[k, M] : node.M)
               for (unsigned int e = 0; e < 3; ++e)
                 mortar_u[e] += M * u[master_start + 3 * k + e];
             const double lambda = r_j * node.normal / node.D;
-            const double gap = (node.weighted_gap + node.normal * mortar_u) / node.D;
-            const double c   = slave_youngs_modulus / std::sqrt(node.D);
+            const double gap =
+              (node.weighted_gap + node.normal * mortar_u) / node.D;
+            const double c    = slave_youngs_modulus / std::sqrt(node.D);
             state.pressure[j] = lambda;
             state.gap[j]      = gap;
             next[j]           = (lambda - c * gap > 0);
             // How far the node is from satisfying its present status.
-            violation[j] = state.active[j] ? std::max(0., -lambda) :
-                                             std::max(0., -c * gap);
+            violation[j] =
+              state.active[j] ? std::max(0., -lambda) : std::max(0., -c * gap);
           }
 
         unsigned int n_changed = 0;
@@ -235,7 +240,7 @@ namespace TKR::Contact
             const unsigned int worst =
               std::max_element(violation.begin(), violation.end()) -
               violation.begin();
-            next = state.active;
+            next        = state.active;
             next[worst] = !next[worst];
           }
         state.active = next;
@@ -247,8 +252,10 @@ namespace TKR::Contact
         {
           ++statistics.n_active;
           statistics.contact_area += nodes[j].D;
-          statistics.contact_force -= state.pressure[j] * nodes[j].D * nodes[j].normal;
-          statistics.max_pressure = std::max(statistics.max_pressure, state.pressure[j]);
+          statistics.contact_force -=
+            state.pressure[j] * nodes[j].D * nodes[j].normal;
+          statistics.max_pressure =
+            std::max(statistics.max_pressure, state.pressure[j]);
         }
     return statistics;
   }

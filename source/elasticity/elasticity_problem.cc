@@ -9,9 +9,8 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <tkr/elasticity/elasticity_problem.h>
-#include <tkr/elasticity/stress_postprocessor.h>
 #include <tkr/mesh/mesh.h>
-#include <tkr/output/vtu_output.h>
+#include <tkr/output/solution_output.h>
 
 #include <iomanip>
 
@@ -25,8 +24,9 @@ namespace TKR::Elasticity
     : parameters(parameters)
     , mpi_communicator(mpi_communicator)
     , pcout(std::cout, Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
-    , timer(mpi_communicator,
-            pcout,
+    // Rank 0's times; the MPI variant of TimerOutput would print a warning
+    // whenever an input error unwinds the stack.
+    , timer(pcout,
             parameters.output.testing ? TimerOutput::never :
                                         TimerOutput::summary,
             TimerOutput::wall_times)
@@ -47,27 +47,11 @@ namespace TKR::Elasticity
   {
     TimerOutput::Scope scope(timer, "read mesh");
     Mesh::read_mesh(parameters.mesh, triangulation);
-    const auto statistics = Mesh::compute_statistics(triangulation);
-    // Regression tests run on other machines: print no absolute path there.
-    const std::string file =
-      parameters.output.testing ?
-        parameters.mesh.file.substr(parameters.mesh.file.rfind('/') + 1) :
-        parameters.mesh.file;
-    pcout << "Mesh <" << file << ">: " << statistics.femur_cells << " femur + "
-          << statistics.tibia_cells << " tibia cells, " << statistics.n_vertices
-          << " vertices" << std::endl
-          << "  femur volume " << statistics.femur_volume
-          << " mm^3, tibia volume " << statistics.tibia_volume << " mm^3"
-          << std::endl;
-    for (const types::boundary_id id : {Mesh::BoundaryIds::femur_contact,
-                                        Mesh::BoundaryIds::femur_fixation,
-                                        Mesh::BoundaryIds::tibia_contact,
-                                        Mesh::BoundaryIds::tibia_inferior})
-      pcout << "  " << Mesh::boundary_name(id) << ": "
-            << statistics.boundary_area[id] << " mm^2" << std::endl;
-    summary.set("cells", statistics.femur_cells + statistics.tibia_cells);
-    summary.set("femur_volume_mm3", statistics.femur_volume);
-    summary.set("tibia_volume_mm3", statistics.tibia_volume);
+    Output::report_mesh(pcout,
+                        summary,
+                        Mesh::compute_statistics(triangulation),
+                        parameters.mesh.file,
+                        parameters.output.testing);
   }
 
   void
@@ -125,37 +109,10 @@ namespace TKR::Elasticity
   ElasticityProblem::output_results()
   {
     TimerOutput::Scope scope(timer, "output");
-    const auto        &dof_handler = elasticity.get_dof_handler();
-
-    DataOut<3> data_out;
-    data_out.attach_dof_handler(dof_handler);
-    const std::vector<DataComponentInterpretation::DataComponentInterpretation>
-      interpretation(3,
-                     DataComponentInterpretation::component_is_part_of_vector);
-    data_out.add_data_vector(elasticity.get_solution(),
-                             std::vector<std::string>(3, "displacement"),
-                             DataOut<3>::type_dof_data,
-                             interpretation);
-    const StressPostprocessor   stress(parameters.materials);
-    const VonMisesPostprocessor von_mises(parameters.materials);
-    data_out.add_data_vector(elasticity.get_solution(), stress);
-    data_out.add_data_vector(elasticity.get_solution(), von_mises);
-
-    Vector<float> material(triangulation.n_active_cells());
-    Vector<float> subdomain(triangulation.n_active_cells());
-    for (const auto &cell : triangulation.active_cell_iterators())
-      {
-        material(cell->active_cell_index())  = cell->material_id();
-        subdomain(cell->active_cell_index()) = cell->subdomain_id();
-      }
-    data_out.add_data_vector(material, "material_id");
-    data_out.add_data_vector(subdomain, "subdomain");
-    data_out.build_patches(mapping, parameters.mesh.fe_degree);
-
-    Output::VtuSeries series(parameters.output.directory,
+    Output::VtuSeries  series(parameters.output.directory,
                              "solution",
                              mpi_communicator);
-    series.write(data_out, 0, 0.);
+    Output::write_solution(elasticity, mapping, series, 0, 0.);
   }
 
   bool

@@ -19,6 +19,8 @@
 
 #include <Teuchos_ParameterList.hpp>
 
+#include <algorithm>
+
 namespace TKR::Elasticity
 {
   using namespace dealii;
@@ -68,6 +70,9 @@ namespace TKR::Elasticity
   // without communication. That includes rows that contact constraints
   // couple to DoFs far away in the mesh (slave rows eliminated onto master
   // DoFs), which a cell-local pattern plus the usual exchange would miss.
+  // Each cell couples its DoFs and all DoFs its constrained DoFs depend
+  // on, among each other: that holds the couplings of every subset of the
+  // constraints, so the pattern survives changes of the active set.
   void
   LinearElasticity::setup_system(const AffineConstraints<double> &constraints)
   {
@@ -76,13 +81,22 @@ namespace TKR::Elasticity
                                dof_handler.n_dofs(),
                                owned_dofs);
     std::vector<types::global_dof_index> dof_indices(fe.n_dofs_per_cell());
+    std::vector<types::global_dof_index> coupled;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (!cell->is_artificial())
         {
           cell->get_dof_indices(dof_indices);
-          constraints.add_entries_local_to_global(dof_indices,
-                                                  dsp,
-                                                  /*keep_constrained=*/false);
+          coupled = dof_indices;
+          for (const auto i : dof_indices)
+            if (const auto *entries = constraints.get_constraint_entries(i))
+              for (const auto &entry : *entries)
+                coupled.push_back(entry.first);
+          std::sort(coupled.begin(), coupled.end());
+          coupled.erase(std::unique(coupled.begin(), coupled.end()),
+                        coupled.end());
+          for (const auto row : coupled)
+            if (owned_dofs.is_element(row))
+              dsp.add_entries(row, coupled.begin(), coupled.end(), true);
         }
     system_matrix.reinit(owned_dofs, owned_dofs, dsp, mpi_communicator);
     system_rhs.reinit(owned_dofs, mpi_communicator);

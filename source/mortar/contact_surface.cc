@@ -75,7 +75,8 @@ namespace TKR::Mortar
     for (const unsigned int v : face_list[f].cell_vertices)
       cell_centre += positions[v] / 8.;
     const Point2 centre(0.5, 0.5);
-    return (quad.area_normal(centre) * (quad.point(centre) - cell_centre) >= 0) ?
+    return (quad.area_normal(centre) * (quad.point(centre) - cell_centre) >=
+            0) ?
              1. :
              -1.;
   }

@@ -101,7 +101,8 @@ namespace TKR::Mortar
         for (unsigned int q = 0; q < face_quadrature.size(); ++q)
           {
             const auto N = BilinearQuad::shape_values(face_quadrature.point(q));
-            const Tensor<1, 3> dA = sign * quad.area_normal(face_quadrature.point(q)) *
+            const Tensor<1, 3> dA = sign *
+                                    quad.area_normal(face_quadrature.point(q)) *
                                     face_quadrature.weight(q);
             for (unsigned int i = 0; i < 4; ++i)
               {
@@ -119,16 +120,16 @@ namespace TKR::Mortar
 
     // M_jk by segment-based integration over the overlap of each slave face
     // with the projections of the master faces near it.
-    const QGaussSimplex<2>                       triangle_quadrature(3);
-    std::vector<std::map<unsigned int, double>>  M(nodes.size());
-    std::vector<bool>                            face_covered(slave_faces.size());
+    const QGaussSimplex<2>                      triangle_quadrature(3);
+    std::vector<std::map<unsigned int, double>> M(nodes.size());
+    std::vector<bool> face_covered(slave_faces.size());
     std::vector<std::pair<BoundingBox<3>, unsigned int>> candidates;
     for (unsigned int e = 0; e < slave_faces.size(); ++e)
       {
-        const BilinearQuad slave_quad{slave.face_vertices(e, positions)};
+        const BilinearQuad       slave_quad{slave.face_vertices(e, positions)};
         const FullMatrix<double> A = dual_basis_coefficients(slave_quad);
-        Tensor<1, 3> n0 = slave.orientation(e, positions) *
-                          slave_quad.area_normal(centre);
+        Tensor<1, 3>             n0 =
+          slave.orientation(e, positions) * slave_quad.area_normal(centre);
         n0 /= n0.norm();
 
         candidates.clear();
@@ -148,17 +149,19 @@ namespace TKR::Mortar
             // parameter square; polygon order 0, 1, 3, 2.
             Polygon polygon;
             double  min_beta = 1e300, max_beta = -1e300;
-            bool    ok       = true;
+            bool    ok = true;
             for (const unsigned int v : {0u, 1u, 3u, 2u})
               {
                 Point2 xi;
                 double beta;
-                ok = ok && slave_quad.project(master_quad.vertices[v], n0, xi, beta);
+                ok = ok &&
+                     slave_quad.project(master_quad.vertices[v], n0, xi, beta);
                 polygon.push_back(xi);
                 min_beta = std::min(min_beta, beta);
                 max_beta = std::max(max_beta, beta);
               }
-            if (!ok || min_beta > search_distance || max_beta < -search_distance)
+            if (!ok || min_beta > search_distance ||
+                max_beta < -search_distance)
               continue;
             const Polygon overlap = clip_to_unit_square(polygon);
             if (overlap.empty())
@@ -169,21 +172,26 @@ namespace TKR::Mortar
             // Fan triangulation of the (convex) overlap polygon.
             for (unsigned int t = 1; t + 1 < overlap.size(); ++t)
               {
-                const Point2 &a = overlap[0], &b = overlap[t], &c = overlap[t + 1];
-                const double  triangle_area =
-                  0.5 * std::abs((b - a)[0] * (c - a)[1] - (b - a)[1] * (c - a)[0]);
+                const Point2 &a = overlap[0], &b = overlap[t],
+                             &c = overlap[t + 1];
+                const double triangle_area =
+                  0.5 *
+                  std::abs((b - a)[0] * (c - a)[1] - (b - a)[1] * (c - a)[0]);
                 if (triangle_area < 1e-16)
                   continue;
                 for (unsigned int q = 0; q < triangle_quadrature.size(); ++q)
                   {
-                    const Point<2> &s  = triangle_quadrature.point(q);
-                    const Point2    xi = a + s[0] * (b - a) + s[1] * (c - a);
-                    const double    JxW =
-                      2. * triangle_area * triangle_quadrature.weight(q) *
-                      slave_quad.area_normal(xi).norm();
+                    const Point<2> &s   = triangle_quadrature.point(q);
+                    const Point2    xi  = a + s[0] * (b - a) + s[1] * (c - a);
+                    const double    JxW = 2. * triangle_area *
+                                       triangle_quadrature.weight(q) *
+                                       slave_quad.area_normal(xi).norm();
                     Point2 eta;
                     double beta;
-                    if (!master_quad.project(slave_quad.point(xi), n0, eta, beta))
+                    if (!master_quad.project(slave_quad.point(xi),
+                                             n0,
+                                             eta,
+                                             beta))
                       continue;
                     // The overlap has straight edges in the slave parameter
                     // plane; the master face's image has slightly curved
@@ -215,8 +223,9 @@ namespace TKR::Mortar
         {
           const BilinearQuad quad{slave.face_vertices(e, positions)};
           for (unsigned int q = 0; q < face_quadrature.size(); ++q)
-            stats.covered_area += quad.area_normal(face_quadrature.point(q)).norm() *
-                                  face_quadrature.weight(q);
+            stats.covered_area +=
+              quad.area_normal(face_quadrature.point(q)).norm() *
+              face_quadrature.weight(q);
         }
     const auto &master_nodes = master.nodes();
     const auto &slave_list   = slave.nodes();
@@ -227,7 +236,8 @@ namespace TKR::Mortar
         for (const unsigned int e : slave.node_faces()[j])
           node.covered = node.covered && face_covered[e];
         node.M.assign(M[j].begin(), M[j].end());
-        Tensor<1, 3> mortar_difference = -node.D * positions[slave_list[j].vertex];
+        Tensor<1, 3> mortar_difference =
+          -node.D * positions[slave_list[j].vertex];
         for (const auto &[k, value] : node.M)
           mortar_difference += value * positions[master_nodes[k].vertex];
         node.weighted_gap = node.normal * mortar_difference;

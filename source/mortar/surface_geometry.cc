@@ -55,11 +55,10 @@ namespace TKR::Mortar
                         Point2             &xi,
                         double             &beta) const
   {
-    xi   = Point2(0.5, 0.5);
-    beta = 0;
-    const double scale =
-      std::max((vertices[3] - vertices[0]).norm(),
-               (vertices[2] - vertices[1]).norm());
+    xi                 = Point2(0.5, 0.5);
+    beta               = 0;
+    const double scale = std::max((vertices[3] - vertices[0]).norm(),
+                                  (vertices[2] - vertices[1]).norm());
     for (unsigned int iteration = 0; iteration < 20; ++iteration)
       {
         const Tensor<1, 3> F = point(xi) + beta * direction - p;
@@ -72,8 +71,7 @@ namespace TKR::Mortar
             J[d][2] = direction[d];
           }
         const double det = determinant(J);
-        if (std::abs(det) <
-            1e-12 * scale * scale * direction.norm() + 1e-300)
+        if (std::abs(det) < 1e-12 * scale * scale * direction.norm() + 1e-300)
           return false;
         const Tensor<1, 3> step = invert(J) * F;
         xi[0] -= step[0];

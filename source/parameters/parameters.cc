@@ -227,6 +227,19 @@ namespace TKR::Parameters
                         Patterns::Double(0, Patterns::Double::max_double_value),
                         "(Problem = contact, Tibia inferior = loaded) Force "
                         "on the tibial inferior surface along +z, in N.");
+      prm.declare_entry("Tibia tangential spring",
+                        "100",
+                        Patterns::Double(0),
+                        "(Tibia inferior = loaded) Total stiffness in N/mm of "
+                        "the x and y springs spread uniformly over the "
+                        "tibial inferior surface; they hold the in-plane "
+                        "rigid motions that frictionless contact cannot.");
+      prm.declare_entry("Roller faces",
+                        "none",
+                        Patterns::Selection("none|x|y|z"),
+                        "Untagged (free) faces whose normal is parallel to "
+                        "this axis get the roller condition u.n = 0, e.g. x "
+                        "for plane strain in a slab normal to x.");
     }
     prm.leave_subsection();
   }
@@ -240,7 +253,13 @@ namespace TKR::Parameters
       tibia_inferior =
         (prm.get("Tibia inferior") == "loaded" ? TibiaSupport::loaded :
                                                  TibiaSupport::clamped);
-      axial_force = prm.get_double("Axial force");
+      axial_force            = prm.get_double("Axial force");
+      tangential_spring      = prm.get_double("Tibia tangential spring");
+      const std::string axis = prm.get("Roller faces");
+      roller_axis            = (axis == "none" ? -1 :
+                                axis == "x"    ? 0 :
+                                axis == "y"    ? 1 :
+                                                 2);
     }
     prm.leave_subsection();
   }
@@ -381,6 +400,23 @@ namespace TKR::Parameters
                         "50",
                         Patterns::Integer(1),
                         "Maximum number of active-set (Newton) iterations.");
+      prm.declare_entry("Search distance",
+                        "2",
+                        Patterns::Double(0),
+                        "Master faces farther than this (mm) from a slave "
+                        "face are not coupled to it. Larger than any gap "
+                        "that can close in one solve.");
+      prm.declare_entry("Initial contact distance",
+                        "0.01",
+                        Patterns::Double(0),
+                        "Slave nodes whose initial gap is at most this (mm) "
+                        "start in the active set (when there is no warm "
+                        "start).");
+      prm.declare_entry("Overlap tolerance",
+                        "0.01",
+                        Patterns::Double(0),
+                        "The bodies may overlap by at most this (mm) in the "
+                        "initial geometry; more is refused as a mesh error.");
     }
     prm.leave_subsection();
   }
@@ -394,6 +430,58 @@ namespace TKR::Parameters
                                                        ContactAlgorithm::active_set);
       tolerance      = prm.get_double("Tolerance");
       max_iterations = prm.get_integer("Max iterations");
+      search_distance          = prm.get_double("Search distance");
+      initial_contact_distance = prm.get_double("Initial contact distance");
+      overlap_tolerance        = prm.get_double("Overlap tolerance");
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  Verification::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Verification");
+    {
+      prm.declare_entry("Analytic solution",
+                        "none",
+                        Patterns::Selection("none|hertz sphere|hertz cylinder"),
+                        "(Problem = contact) Compare the contact pressure "
+                        "with Hertz's solution for the computed contact "
+                        "force: a sphere on a half-space, or a cylinder (axis "
+                        "along x) on a half-space in plane strain.");
+      prm.declare_entry("Radius",
+                        "20",
+                        Patterns::Double(0),
+                        "Radius of the sphere or cylinder, mm.");
+      prm.declare_entry("Cylinder length",
+                        "10",
+                        Patterns::Double(0),
+                        "Length of the cylinder along x, mm (the force per "
+                        "length is the contact force over it).");
+      prm.declare_entry("Cross-check with Ipopt",
+                        "false",
+                        Patterns::Bool(),
+                        "(Problem = contact, Solver = active set, one MPI "
+                        "rank) Solve the same discrete problem again with "
+                        "Ipopt and report the largest differences of "
+                        "displacement and pressure.");
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  Verification::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Verification");
+    {
+      const std::string name = prm.get("Analytic solution");
+      analytic_solution =
+        (name == "hertz sphere"   ? AnalyticSolution::hertz_sphere :
+         name == "hertz cylinder" ? AnalyticSolution::hertz_cylinder :
+                                    AnalyticSolution::none);
+      radius                 = prm.get_double("Radius");
+      cylinder_length        = prm.get_double("Cylinder length");
+      cross_check_with_ipopt = prm.get_bool("Cross-check with Ipopt");
     }
     prm.leave_subsection();
   }
@@ -491,6 +579,7 @@ namespace TKR::Parameters
     ContactSolver::declare_parameters(prm);
     LinearSolver::declare_parameters(prm);
     Output::declare_parameters(prm);
+    Verification::declare_parameters(prm);
   }
 
   void
@@ -509,6 +598,7 @@ namespace TKR::Parameters
     contact_solver.parse_parameters(prm);
     linear_solver.parse_parameters(prm);
     output.parse_parameters(prm);
+    verification.parse_parameters(prm);
   }
 
   // ParameterHandler reports a bad line with an exception whose message

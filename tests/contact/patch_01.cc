@@ -30,17 +30,24 @@ main(int argc, char **argv)
   using namespace TKR;
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   initlog();
-  const MPI_Comm comm     = MPI_COMM_WORLD;
-  const double   pressure = 3.; // MPa
+  const MPI_Comm               comm     = MPI_COMM_WORLD;
+  const double                 pressure = 3.; // MPa
   constexpr types::boundary_id x_roller = 10, y_roller = 11;
 
   parallel::shared::Triangulation<3> triangulation(
-    comm, Triangulation<3>::none, false,
+    comm,
+    Triangulation<3>::none,
+    false,
     parallel::shared::Triangulation<3>::partition_metis);
   Parameters::Mesh mesh{std::string(SOURCE_DIR) +
                           "/../../meshes/verification/patch-fine.msh",
-                        1, "femur", "tibia", "femur_contact", "femur_fixation",
-                        "tibia_contact", "tibia_inferior"};
+                        1,
+                        "femur",
+                        "tibia",
+                        "femur_contact",
+                        "femur_fixation",
+                        "tibia_contact",
+                        "tibia_inferior"};
   Mesh::read_mesh(mesh, triangulation);
   for (const auto &cell : triangulation.active_cell_iterators())
     for (const auto &face : cell->face_iterators())
@@ -55,20 +62,29 @@ main(int argc, char **argv)
   Parameters::Materials materials;
   materials.femur = {220000., 0.31, 8.3};
   materials.tibia = {1100., 0.42, 0.935};
-  const Parameters::LinearSolver  linear{1e-10, 1000, true};
-  const Parameters::ContactSolver contact{
-    Parameters::ContactAlgorithm::active_set, 1e-8, 20};
+  const Parameters::LinearSolver linear{1e-10, 1000, true};
+  const Parameters::ContactSolver
+    contact{Parameters::ContactAlgorithm::active_set, 1e-8, 20, 1., 1e-8, 0.01};
 
-  TimerOutput  timer(comm, std::cout, TimerOutput::never, TimerOutput::wall_times);
-  MappingQ1<3> mapping;
-  Elasticity::LinearElasticity elasticity(
-    triangulation, materials, linear, 1, comm, timer);
+  TimerOutput                  timer(comm,
+                    std::cout,
+                    TimerOutput::never,
+                    TimerOutput::wall_times);
+  MappingQ1<3>                 mapping;
+  Elasticity::LinearElasticity elasticity(triangulation,
+                                          materials,
+                                          linear,
+                                          1,
+                                          comm,
+                                          timer);
   elasticity.distribute_dofs();
 
   AffineConstraints<double> dirichlet;
   for (const auto &[id, component] :
        std::vector<std::pair<types::boundary_id, unsigned int>>{
-         {x_roller, 0}, {y_roller, 1}, {Mesh::BoundaryIds::tibia_inferior, 2}})
+         {x_roller, 0},
+         {y_roller, 1},
+         {Mesh::BoundaryIds::tibia_inferior, 2}})
     {
       ComponentMask mask(3, false);
       mask.set(component, true);
@@ -85,24 +101,30 @@ main(int argc, char **argv)
                                      Mesh::BoundaryIds::tibia_contact);
   const Mortar::ContactSurface master(elasticity.get_dof_handler(),
                                       Mesh::BoundaryIds::femur_contact);
-  Mortar::MortarCoupling coupling(slave, master);
+  Mortar::MortarCoupling       coupling(slave, master);
   coupling.reinit(triangulation.get_vertices(), 1.);
 
-  ConditionalOStream     silent(std::cout, false);
-  Contact::ActiveSetSolver solver(
-    elasticity, coupling, contact, materials.tibia.youngs_modulus, comm,
-    silent, timer, true);
+  ConditionalOStream       silent(std::cout, false);
+  Contact::ActiveSetSolver solver(elasticity,
+                                  coupling,
+                                  contact,
+                                  materials.tibia.youngs_modulus,
+                                  comm,
+                                  silent,
+                                  timer,
+                                  true);
   solver.setup(dirichlet);
 
   Elasticity::BoundaryLoads loads;
   loads.tractions[Mesh::BoundaryIds::femur_fixation] =
     Tensor<1, 3>({0., 0., -pressure});
   Contact::ContactState state;
-  const auto statistics = solver.solve(mapping, loads, 1e-8, state);
+  const auto            statistics = solver.solve(mapping, loads, 1e-8, state);
 
   double max_error = 0;
   for (unsigned int j = 0; j < state.pressure.size(); ++j)
-    max_error = std::max(max_error, std::abs(state.pressure[j] - pressure) / pressure);
+    max_error =
+      std::max(max_error, std::abs(state.pressure[j] - pressure) / pressure);
   deallog << "DoFs: " << elasticity.get_dof_handler().n_dofs() << std::endl;
   deallog << "slave nodes: " << state.pressure.size()
           << ", active: " << statistics.n_active << std::endl;

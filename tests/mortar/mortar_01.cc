@@ -40,8 +40,8 @@ namespace
     const auto &nodes = coupling.slave_nodes();
     deallog << "slave faces " << s.n_slave_faces << ", master faces "
             << s.n_master_faces << ", overlapping pairs "
-            << s.n_overlapping_pairs << ", covered nodes "
-            << s.n_covered_nodes << " of " << nodes.size() << std::endl;
+            << s.n_overlapping_pairs << ", covered nodes " << s.n_covered_nodes
+            << " of " << nodes.size() << std::endl;
     deallog << "candidate pairs per slave face below 12: "
             << yes_no(s.n_candidate_pairs < 12 * s.n_slave_faces) << std::endl;
 
@@ -95,10 +95,15 @@ main(int argc, char **argv)
 
   {
     deallog.push("flat");
-    Parameters::Mesh parameters{
-      std::string(SOURCE_DIR) + "/../../meshes/verification/patch-coarse.msh",
-      1, "femur", "tibia", "femur_contact", "femur_fixation",
-      "tibia_contact", "tibia_inferior"};
+    Parameters::Mesh parameters{std::string(SOURCE_DIR) +
+                                  "/../../meshes/verification/patch-coarse.msh",
+                                1,
+                                "femur",
+                                "tibia",
+                                "femur_contact",
+                                "femur_fixation",
+                                "tibia_contact",
+                                "tibia_inferior"};
     Triangulation<3> triangulation;
     Mesh::read_mesh(parameters, triangulation);
     DoFHandler<3> dof_handler(triangulation);
@@ -107,7 +112,7 @@ main(int argc, char **argv)
                                        Mesh::BoundaryIds::tibia_contact);
     const Mortar::ContactSurface master(dof_handler,
                                         Mesh::BoundaryIds::femur_contact);
-    Mortar::MortarCoupling coupling(slave, master);
+    Mortar::MortarCoupling       coupling(slave, master);
     coupling.reinit(triangulation.get_vertices(), 1.);
     check(coupling, triangulation.get_vertices(), 400., 5., true);
     deallog.pop();
@@ -115,9 +120,9 @@ main(int argc, char **argv)
 
   {
     deallog.push("curved");
-    const double     R = 10., clearance = 0.1, L = 10.;
+    const double       R = 10., clearance = 0.1, L = 10.;
     const unsigned int n_slave = 16, n_master = 24;
-    Triangulation<3> inner, outer, triangulation;
+    Triangulation<3>   inner, outer, triangulation;
     GridGenerator::cylinder_shell(inner, L, 8., R, n_slave, 3);
     GridGenerator::cylinder_shell(outer, L, R + clearance, 12., n_master, 4);
     GridGenerator::merge_triangulations(inner, outer, triangulation);
@@ -135,9 +140,9 @@ main(int argc, char **argv)
                 {
                   const double r =
                     Point<2>(face->vertex(v)[0], face->vertex(v)[1]).norm();
-                  on_r           = on_r && std::abs(r - R) < 1e-8;
-                  on_r_clearance = on_r_clearance &&
-                                   std::abs(r - R - clearance) < 1e-8;
+                  on_r = on_r && std::abs(r - R) < 1e-8;
+                  on_r_clearance =
+                    on_r_clearance && std::abs(r - R - clearance) < 1e-8;
                 }
               face->set_boundary_id(on_r ? Mesh::BoundaryIds::tibia_contact :
                                     on_r_clearance ?
@@ -151,14 +156,14 @@ main(int argc, char **argv)
                                        Mesh::BoundaryIds::tibia_contact);
     const Mortar::ContactSurface master(dof_handler,
                                         Mesh::BoundaryIds::femur_contact);
-    Mortar::MortarCoupling coupling(slave, master);
+    Mortar::MortarCoupling       coupling(slave, master);
     coupling.reinit(triangulation.get_vertices(), 1.);
     const double faceted_area =
       n_slave * 2. * R * std::sin(numbers::PI / n_slave) * L;
     check(coupling, triangulation.get_vertices(), faceted_area, 1., false);
-    const double sagittas = R * (1 - std::cos(numbers::PI / n_slave)) +
-                            (R + clearance) *
-                              (1 - std::cos(numbers::PI / n_master));
+    const double sagittas =
+      R * (1 - std::cos(numbers::PI / n_slave)) +
+      (R + clearance) * (1 - std::cos(numbers::PI / n_master));
     double min_gap = 1e300, max_gap = -1e300;
     for (const auto &node : coupling.slave_nodes())
       {

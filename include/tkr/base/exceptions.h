@@ -26,6 +26,10 @@ namespace TKR
    */
   std::string
   exception_message(const dealii::ExceptionBase &exc);
+
+  /** A number with @p digits significant digits, for messages. */
+  std::string
+  format_number(const double value, const unsigned int digits = 3);
 } // namespace TKR
 
 #endif

@@ -38,11 +38,11 @@ namespace TKR::Contact
   /** What a contact solve did. */
   struct ContactStatistics
   {
-    bool         converged           = false;
-    unsigned int newton_iterations   = 0;
-    unsigned int linear_iterations   = 0;
-    double       relative_residual   = 0;
-    unsigned int n_active            = 0;
+    bool         converged         = false;
+    unsigned int newton_iterations = 0;
+    unsigned int linear_iterations = 0;
+    double       relative_residual = 0;
+    unsigned int n_active          = 0;
     /** Sum of D_jj over active nodes (mm^2). */
     double contact_area = 0;
     /** Resultant of the contact forces on the slave body (N). */
@@ -69,14 +69,14 @@ namespace TKR::Contact
   class ActiveSetSolver
   {
   public:
-    ActiveSetSolver(Elasticity::LinearElasticity        &elasticity,
-                    const Mortar::MortarCoupling         &coupling,
-                    const Parameters::ContactSolver      &parameters,
-                    const double                          slave_youngs_modulus,
-                    const MPI_Comm                        mpi_communicator,
-                    const dealii::ConditionalOStream     &pcout,
-                    dealii::TimerOutput                  &timer,
-                    const bool                            testing);
+    ActiveSetSolver(Elasticity::LinearElasticity     &elasticity,
+                    const Mortar::MortarCoupling     &coupling,
+                    const Parameters::ContactSolver  &parameters,
+                    const double                      slave_youngs_modulus,
+                    const MPI_Comm                    mpi_communicator,
+                    const dealii::ConditionalOStream &pcout,
+                    dealii::TimerOutput              &timer,
+                    const bool                        testing);
 
     /**
      * Set up the sparsity pattern for the current coupling (all covered
@@ -92,10 +92,10 @@ namespace TKR::Contact
      * and returns the final state.
      */
     ContactStatistics
-    solve(const dealii::Mapping<3>            &mapping,
-          const Elasticity::BoundaryLoads     &loads,
-          const double                         initial_distance,
-          ContactState                        &state);
+    solve(const dealii::Mapping<3>        &mapping,
+          const Elasticity::BoundaryLoads &loads,
+          const double                     initial_distance,
+          ContactState                    &state);
 
   private:
     void
@@ -106,14 +106,14 @@ namespace TKR::Contact
     std::vector<double>
     gather(const dealii::TrilinosWrappers::MPI::Vector &vector) const;
 
-    Elasticity::LinearElasticity        &elasticity;
-    const Mortar::MortarCoupling        &coupling;
-    const Parameters::ContactSolver      parameters;
-    const double                         slave_youngs_modulus;
-    const MPI_Comm                       mpi_communicator;
-    const dealii::ConditionalOStream    &pcout;
-    dealii::TimerOutput                 &timer;
-    const bool                           testing;
+    Elasticity::LinearElasticity     &elasticity;
+    const Mortar::MortarCoupling     &coupling;
+    const Parameters::ContactSolver   parameters;
+    const double                      slave_youngs_modulus;
+    const MPI_Comm                    mpi_communicator;
+    const dealii::ConditionalOStream &pcout;
+    dealii::TimerOutput              &timer;
+    const bool                        testing;
 
     dealii::AffineConstraints<double> dirichlet;
     /** Slave node DoFs (3 per node) followed by master node DoFs. */

@@ -130,6 +130,16 @@ namespace TKR::Elasticity
     SolverStatistics
     solve(const dealii::AffineConstraints<double> &constraints);
 
+    /**
+     * Replace the solution by @p owned_solution (locally owned entries,
+     * constraints already satisfied), e.g. from another solver.
+     */
+    void
+    set_solution(const dealii::TrilinosWrappers::MPI::Vector &owned_solution)
+    {
+      solution = owned_solution;
+    }
+
     /** Largest nodal displacement magnitude (mm) in the body @p material. */
     double
     max_displacement(const dealii::types::material_id material) const;

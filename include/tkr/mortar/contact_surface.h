@@ -29,7 +29,7 @@ namespace TKR::Mortar
   public:
     struct Node
     {
-      unsigned int                                vertex;
+      unsigned int                                   vertex;
       std::array<dealii::types::global_dof_index, 3> dofs;
     };
 

@@ -113,6 +113,17 @@ namespace TKR::Parameters
     TibiaSupport         tibia_inferior;
     /** Axial force on `tibia_inferior` (N, along +z) if loaded. */
     double axial_force;
+    /**
+     * Total stiffness (N/mm) of the tangential (x and y) springs spread
+     * over `tibia_inferior` when loaded; they hold the tibia's in-plane
+     * rigid motions, which frictionless contact cannot.
+     */
+    double tangential_spring;
+    /**
+     * Free faces whose normal is parallel to this axis (0, 1, 2) get the
+     * roller condition u.n = 0 (e.g. x for a plane-strain slab); -1: none.
+     */
+    int roller_axis;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);
@@ -175,6 +186,12 @@ namespace TKR::Parameters
     /** Relative residual tolerance of the Newton iteration. */
     double       tolerance;
     unsigned int max_iterations;
+    /** Master faces farther than this (mm) from a slave face are ignored. */
+    double search_distance;
+    /** Nodes with an initial gap up to this (mm) start active. */
+    double initial_contact_distance;
+    /** A gap below minus this (mm) means the bodies overlap: refused. */
+    double overlap_tolerance;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);
@@ -214,6 +231,31 @@ namespace TKR::Parameters
     parse_parameters(dealii::ParameterHandler &prm);
   };
 
+  /** Analytic solutions a contact run can be compared with. */
+  enum class AnalyticSolution
+  {
+    none,
+    hertz_sphere,
+    hertz_cylinder
+  };
+
+  /** `subsection Verification`: compare a contact run with theory. */
+  struct Verification
+  {
+    AnalyticSolution analytic_solution;
+    /** Radius of the sphere or cylinder (mm). */
+    double radius;
+    /** Length of the cylinder (mm), for the force per length. */
+    double cylinder_length;
+    /** Solve again with Ipopt and report the differences. */
+    bool cross_check_with_ipopt;
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+
   /** The problems the program solves (`set Problem = ...`). */
   enum class ProblemType
   {
@@ -235,6 +277,7 @@ namespace TKR::Parameters
     ContactSolver contact_solver;
     LinearSolver  linear_solver;
     Output        output;
+    Verification  verification;
 
     /** The parameter file these values came from ("" for the defaults). */
     std::string parameter_file;

@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#ifndef tkr_output_solution_output_h
+#define tkr_output_solution_output_h
+
+#include <deal.II/base/conditional_ostream.h>
+
+#include <deal.II/fe/mapping.h>
+
+#include <deal.II/numerics/data_out.h>
+
+#include <tkr/elasticity/linear_elasticity.h>
+#include <tkr/mesh/mesh.h>
+#include <tkr/output/summary.h>
+#include <tkr/output/vtu_output.h>
+
+#include <functional>
+#include <ostream>
+
+namespace TKR::Output
+{
+  /**
+   * Print the mesh statistics (cells, vertices, volumes, areas of the
+   * tagged surfaces) and record them in @p summary. With @p testing, the
+   * file is named without its directory (regression output must not depend
+   * on where the sources are).
+   */
+  void
+  report_mesh(const dealii::ConditionalOStream &out,
+              Summary                     &summary,
+              const Mesh::MeshStatistics &statistics,
+              const std::string           &filename,
+              const bool                   testing);
+
+  /**
+   * Write the displacement, the stress tensor, the von Mises stress, the
+   * material id and the MPI partition of @p elasticity as output @p index
+   * of @p series; @p add_fields may attach further data vectors (on the
+   * same DoFHandler) before the patches are built.
+   */
+  void
+  write_solution(
+    const Elasticity::LinearElasticity                  &elasticity,
+    const dealii::Mapping<3>                            &mapping,
+    VtuSeries                                           &series,
+    const unsigned int                                   index,
+    const double                                         time,
+    const std::function<void(dealii::DataOut<3> &)>     &add_fields = {});
+} // namespace TKR::Output
+
+#endif

@@ -1,0 +1,78 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#include <deal.II/lac/vector.h>
+
+#include <tkr/elasticity/stress_postprocessor.h>
+#include <tkr/output/solution_output.h>
+
+namespace TKR::Output
+{
+  using namespace dealii;
+
+  void
+  report_mesh(const ConditionalOStream    &out,
+              Summary                    &summary,
+              const Mesh::MeshStatistics &statistics,
+              const std::string          &filename,
+              const bool                  testing)
+  {
+    const std::string file =
+      testing ? filename.substr(filename.rfind('/') + 1) : filename;
+    out << "Mesh <" << file << ">: " << statistics.femur_cells << " femur + "
+        << statistics.tibia_cells << " tibia cells, " << statistics.n_vertices
+        << " vertices" << std::endl
+        << "  femur volume " << statistics.femur_volume
+        << " mm^3, tibia volume " << statistics.tibia_volume << " mm^3"
+        << std::endl;
+    for (const types::boundary_id id : {Mesh::BoundaryIds::femur_contact,
+                                        Mesh::BoundaryIds::femur_fixation,
+                                        Mesh::BoundaryIds::tibia_contact,
+                                        Mesh::BoundaryIds::tibia_inferior})
+      out << "  " << Mesh::boundary_name(id) << ": "
+          << statistics.boundary_area[id] << " mm^2" << std::endl;
+    summary.set("cells", statistics.femur_cells + statistics.tibia_cells);
+    summary.set("femur_volume_mm3", statistics.femur_volume);
+    summary.set("tibia_volume_mm3", statistics.tibia_volume);
+  }
+
+  void
+  write_solution(const Elasticity::LinearElasticity        &elasticity,
+                 const Mapping<3>                          &mapping,
+                 VtuSeries                                 &series,
+                 const unsigned int                         index,
+                 const double                               time,
+                 const std::function<void(DataOut<3> &)> &add_fields)
+  {
+    const auto &dof_handler   = elasticity.get_dof_handler();
+    const auto &triangulation = dof_handler.get_triangulation();
+
+    DataOut<3> data_out;
+    data_out.attach_dof_handler(dof_handler);
+    data_out.add_data_vector(
+      elasticity.get_solution(),
+      std::vector<std::string>(3, "displacement"),
+      DataOut<3>::type_dof_data,
+      std::vector<DataComponentInterpretation::DataComponentInterpretation>(
+        3, DataComponentInterpretation::component_is_part_of_vector));
+    const Elasticity::StressPostprocessor stress(elasticity.get_materials());
+    const Elasticity::VonMisesPostprocessor von_mises(
+      elasticity.get_materials());
+    data_out.add_data_vector(elasticity.get_solution(), stress);
+    data_out.add_data_vector(elasticity.get_solution(), von_mises);
+
+    Vector<float> material(triangulation.n_active_cells());
+    Vector<float> subdomain(triangulation.n_active_cells());
+    for (const auto &cell : triangulation.active_cell_iterators())
+      {
+        material(cell->active_cell_index())  = cell->material_id();
+        subdomain(cell->active_cell_index()) = cell->subdomain_id();
+      }
+    data_out.add_data_vector(material, "material_id");
+    data_out.add_data_vector(subdomain, "subdomain");
+    if (add_fields)
+      add_fields(data_out);
+    data_out.build_patches(mapping, dof_handler.get_fe().degree);
+    series.write(data_out, index, time);
+  }
+} // namespace TKR::Output
