@@ -84,9 +84,8 @@ namespace TKR::Contact
   {
     elasticity.distribute_dofs();
     const auto &dof_handler = elasticity.get_dof_handler();
-    pcout << "Degrees of freedom: " << dof_handler.n_dofs()
-          << ", MPI ranks: " << Utilities::MPI::n_mpi_processes(mpi_communicator)
-          << std::endl;
+    pcout << "Degrees of freedom: " << dof_handler.n_dofs() << ", MPI ranks: "
+          << Utilities::MPI::n_mpi_processes(mpi_communicator) << std::endl;
     summary.set("dofs", static_cast<unsigned long long>(dof_handler.n_dofs()));
 
     // Dirichlet data on all DoFs (every rank knows every constraint).
@@ -95,12 +94,12 @@ namespace TKR::Contact
     Vector<double> femur_displacement(3);
     for (unsigned int d = 0; d < 3; ++d)
       femur_displacement(d) = sc.femur_displacement[d];
-    VectorTools::interpolate_boundary_values(
-      mapping,
-      dof_handler,
-      Mesh::BoundaryIds::femur_fixation,
-      Functions::ConstantFunction<3>(femur_displacement),
-      dirichlet);
+    VectorTools::interpolate_boundary_values(mapping,
+                                             dof_handler,
+                                             Mesh::BoundaryIds::femur_fixation,
+                                             Functions::ConstantFunction<3>(
+                                               femur_displacement),
+                                             dirichlet);
     if (sc.tibia_inferior == Parameters::TibiaSupport::clamped)
       VectorTools::interpolate_boundary_values(
         mapping,
@@ -137,10 +136,12 @@ namespace TKR::Contact
 
     {
       TimerOutput::Scope scope(timer, "mortar coupling");
-      slave  = std::make_unique<Mortar::ContactSurface>(
-        dof_handler, Mesh::BoundaryIds::tibia_contact);
+      slave = std::make_unique<Mortar::ContactSurface>(
+        dof_handler,
+        Mesh::BoundaryIds::tibia_contact);
       master = std::make_unique<Mortar::ContactSurface>(
-        dof_handler, Mesh::BoundaryIds::femur_contact);
+        dof_handler,
+        Mesh::BoundaryIds::femur_contact);
       coupling = std::make_unique<Mortar::MortarCoupling>(*slave, *master);
       coupling->reinit(triangulation.get_vertices(),
                        parameters.contact_solver.search_distance);
@@ -188,15 +189,17 @@ namespace TKR::Contact
                   "With Tibia inferior = loaded the tibia is held only by "
                   "contact, but no part of tibia_contact faces femur_contact "
                   "within the search distance (" +
-                  Utilities::to_string(parameters.contact_solver.search_distance) +
+                  Utilities::to_string(
+                    parameters.contact_solver.search_distance) +
                   " mm): the bodies do not touch and the problem is "
                   "singular."));
     if (coupling->statistics().n_covered_nodes == 0)
       return;
-    const Point<3> &x = triangulation.get_vertices()[slave->nodes()[closest].vertex];
+    const Point<3> &x =
+      triangulation.get_vertices()[slave->nodes()[closest].vertex];
     const std::string where = "(" + format_number(x[0]) + ", " +
-                              format_number(x[1]) + ", " +
-                              format_number(x[2]) + ")";
+                              format_number(x[1]) + ", " + format_number(x[2]) +
+                              ")";
     AssertThrow(min_gap >= -parameters.contact_solver.overlap_tolerance,
                 ExcInputError("The bodies overlap by " +
                               format_number(-min_gap) +
@@ -210,8 +213,8 @@ namespace TKR::Contact
                 ExcInputError(
                   "With Tibia inferior = loaded the tibia is held only by "
                   "contact, but the bodies do not touch: the smallest gap is " +
-                  format_number(min_gap) + " mm (at the tibia node " +
-                  where + "), more than the Initial contact distance "
+                  format_number(min_gap) + " mm (at the tibia node " + where +
+                  "), more than the Initial contact distance "
                   "of " +
                   Utilities::to_string(
                     parameters.contact_solver.initial_contact_distance) +
@@ -252,8 +255,8 @@ namespace TKR::Contact
       elasticity.get_solution());
     const ContactState active_set_state = state;
 
-    ContactState ipopt_state;
-    IpoptSolver  ipopt(elasticity,
+    ContactState            ipopt_state;
+    IpoptSolver             ipopt(elasticity,
                       *coupling,
                       1e-2 * parameters.contact_solver.tolerance,
                       parameters.materials.tibia.youngs_modulus,
@@ -303,8 +306,9 @@ namespace TKR::Contact
   {
     const double radius = std::sqrt(statistics.contact_area / numbers::PI);
     const double force  = statistics.contact_force.norm();
-    pcout << "Contact " << (statistics.converged ? "converged" : "did NOT converge")
-          << " in " << statistics.newton_iterations << " active-set iterations"
+    pcout << "Contact "
+          << (statistics.converged ? "converged" : "did NOT converge") << " in "
+          << statistics.newton_iterations << " active-set iterations"
           << std::endl
           << "  active nodes:       " << statistics.n_active << std::endl
           << "  contact force:      " << force << " N" << std::endl
@@ -331,8 +335,8 @@ namespace TKR::Contact
   ContactProblem::compare_with_hertz(const ContactStatistics &statistics)
   {
     const auto &verification = parameters.verification;
-    const bool  is_sphere =
-      verification.analytic_solution == Parameters::AnalyticSolution::hertz_sphere;
+    const bool  is_sphere    = verification.analytic_solution ==
+                           Parameters::AnalyticSolution::hertz_sphere;
     const double E_star = Hertz::effective_modulus(parameters.materials.femur,
                                                    parameters.materials.tibia);
     const double F      = statistics.contact_force.norm();
@@ -367,7 +371,7 @@ namespace TKR::Contact
     const Hertz::Solution fitted = Hertz::fit(r, p);
     const double          area_measure =
       is_sphere ? std::sqrt(statistics.contact_area / numbers::PI) :
-                  statistics.contact_area / (2. * verification.cylinder_length);
+                           statistics.contact_area / (2. * verification.cylinder_length);
 
     pcout << "Hertz " << (is_sphere ? "sphere" : "cylinder (plane strain)")
           << " for the computed force (E* = " << E_star << " MPa):" << std::endl
@@ -407,13 +411,19 @@ namespace TKR::Contact
     Output::VtuSeries series(parameters.output.directory,
                              "solution",
                              mpi_communicator);
-    Output::write_solution(elasticity, mapping, series, 0, 0., [&](DataOut<3> &data_out) {
-      data_out.add_data_vector(contact,
+    Output::write_solution(elasticity,
+                           mapping,
+                           series,
+                           0,
+                           0.,
+                           [&](DataOut<3> &data_out) {
+                             data_out.add_data_vector(
+                               contact,
                                std::vector<std::string>{"contact_pressure",
                                                         "gap",
                                                         "active"},
                                DataOut<3>::type_dof_data);
-    });
+                           });
   }
 
   bool

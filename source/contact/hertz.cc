@@ -56,7 +56,7 @@ namespace TKR::Contact::Hertz
           s_xy += x * y;
           ++n;
         }
-    Solution solution;
+    Solution     solution;
     const double denominator = n * s_xx - s_x * s_x;
     if (n < 3 || denominator <= 0)
       return solution;

@@ -193,11 +193,11 @@ namespace TKR::Contact
   } // namespace
 
   IpoptSolver::IpoptSolver(Elasticity::LinearElasticity &elasticity,
-                           const Mortar::MortarCoupling  &coupling,
-                           const double                   tolerance,
-                           const double                   slave_youngs_modulus,
-                           const MPI_Comm                 mpi_communicator,
-                           TimerOutput                   &timer)
+                           const Mortar::MortarCoupling &coupling,
+                           const double                  tolerance,
+                           const double                  slave_youngs_modulus,
+                           const MPI_Comm                mpi_communicator,
+                           TimerOutput                  &timer)
     : elasticity(elasticity)
     , coupling(coupling)
     , tolerance(tolerance)
@@ -248,15 +248,15 @@ namespace TKR::Contact
       }
 
     // One linear inequality per covered slave node.
-    const auto &nodes        = coupling.slave_nodes();
-    const auto &slave_nodes  = coupling.slave_surface().nodes();
-    const auto &master_nodes = coupling.master_surface().nodes();
+    const auto               &nodes        = coupling.slave_nodes();
+    const auto               &slave_nodes  = coupling.slave_surface().nodes();
+    const auto               &master_nodes = coupling.master_surface().nodes();
     std::vector<unsigned int> row_of_node(nodes.size(),
                                           numbers::invalid_unsigned_int);
     for (unsigned int j = 0; j < nodes.size(); ++j)
       if (nodes[j].covered)
         {
-          const int row   = qp->gap_bound.size();
+          const int row  = qp->gap_bound.size();
           row_of_node[j] = row;
           qp->gap_bound.push_back(-nodes[j].weighted_gap);
           for (unsigned int e = 0; e < 3; ++e)
@@ -296,7 +296,7 @@ namespace TKR::Contact
     elasticity.set_solution(u);
 
     ContactStatistics statistics;
-    statistics.converged         = qp->solved && status == Ipopt::Solve_Succeeded;
+    statistics.converged = qp->solved && status == Ipopt::Solve_Succeeded;
     statistics.newton_iterations = Ipopt::IsValid(ipopt->Statistics()) ?
                                      ipopt->Statistics()->IterationCount() :
                                      0;
@@ -314,17 +314,20 @@ namespace TKR::Contact
                  qp->x_solution[slave_nodes[j].dofs[e]];
           for (const auto &[k, M] : nodes[j].M)
             for (unsigned int e = 0; e < 3; ++e)
-              g += M * nodes[j].normal[e] * qp->x_solution[master_nodes[k].dofs[e]];
+              g += M * nodes[j].normal[e] *
+                   qp->x_solution[master_nodes[k].dofs[e]];
           state.pressure[j] = lambda;
           state.gap[j]      = g / nodes[j].D;
-          state.active[j] =
-            lambda - slave_youngs_modulus / std::sqrt(nodes[j].D) * state.gap[j] > 0;
+          state.active[j]   = lambda - slave_youngs_modulus /
+                                       std::sqrt(nodes[j].D) * state.gap[j] >
+                            0;
           if (state.active[j])
             {
               ++statistics.n_active;
               statistics.contact_area += nodes[j].D;
               statistics.contact_force -= lambda * nodes[j].D * nodes[j].normal;
-              statistics.max_pressure = std::max(statistics.max_pressure, lambda);
+              statistics.max_pressure =
+                std::max(statistics.max_pressure, lambda);
             }
         }
     return statistics;

@@ -11,7 +11,7 @@ namespace TKR::Output
   using namespace dealii;
 
   void
-  report_mesh(const ConditionalOStream    &out,
+  report_mesh(const ConditionalOStream   &out,
               Summary                    &summary,
               const Mesh::MeshStatistics &statistics,
               const std::string          &filename,
@@ -37,11 +37,11 @@ namespace TKR::Output
   }
 
   void
-  write_solution(const Elasticity::LinearElasticity        &elasticity,
-                 const Mapping<3>                          &mapping,
-                 VtuSeries                                 &series,
-                 const unsigned int                         index,
-                 const double                               time,
+  write_solution(const Elasticity::LinearElasticity      &elasticity,
+                 const Mapping<3>                        &mapping,
+                 VtuSeries                               &series,
+                 const unsigned int                       index,
+                 const double                             time,
                  const std::function<void(DataOut<3> &)> &add_fields)
   {
     const auto &dof_handler   = elasticity.get_dof_handler();
@@ -54,8 +54,9 @@ namespace TKR::Output
       std::vector<std::string>(3, "displacement"),
       DataOut<3>::type_dof_data,
       std::vector<DataComponentInterpretation::DataComponentInterpretation>(
-        3, DataComponentInterpretation::component_is_part_of_vector));
-    const Elasticity::StressPostprocessor stress(elasticity.get_materials());
+        3,
+        DataComponentInterpretation::component_is_part_of_vector));
+    const Elasticity::StressPostprocessor   stress(elasticity.get_materials());
     const Elasticity::VonMisesPostprocessor von_mises(
       elasticity.get_materials());
     data_out.add_data_vector(elasticity.get_solution(), stress);

@@ -34,15 +34,15 @@ main(int argc, char **argv)
   const auto parameters = TKR::Parameters::read_parameters(prm);
 
   // Silence the problems' screen output; this test reports via deallog.
-  std::streambuf *screen = std::cout.rdbuf(nullptr);
+  std::streambuf              *screen = std::cout.rdbuf(nullptr);
   TKR::Contact::ContactProblem parallel(parameters, MPI_COMM_WORLD);
   const bool                   parallel_converged = parallel.run();
   TKR::Contact::ContactProblem serial(parameters, MPI_COMM_SELF);
   const bool                   serial_converged = serial.run();
   std::cout.rdbuf(screen);
 
-  const auto &a = parallel.get_state();
-  const auto &b = serial.get_state();
+  const auto &a     = parallel.get_state();
+  const auto &b     = serial.get_state();
   double      max_p = 0, dp = 0, max_g = 0, dg = 0;
   for (unsigned int j = 0; j < a.pressure.size(); ++j)
     {
@@ -54,10 +54,10 @@ main(int argc, char **argv)
           dg    = std::max(dg, std::abs(a.gap[j] - b.gap[j]));
         }
     }
-  const bool same = Utilities::MPI::min(
-    static_cast<int>(a.active == b.active && dp < 1e-10 * max_p &&
-                     dg < 1e-10 * max_g),
-    MPI_COMM_WORLD);
+  const bool same = Utilities::MPI::min(static_cast<int>(a.active == b.active &&
+                                                         dp < 1e-10 * max_p &&
+                                                         dg < 1e-10 * max_g),
+                                        MPI_COMM_WORLD);
   deallog << "ranks: " << Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD)
           << ", both converged: "
           << yes_no(parallel_converged && serial_converged) << std::endl;

@@ -54,7 +54,7 @@ main()
                                        "femur_fixation",
                                        "tibia_contact",
                                        "tibia_inferior"};
-      Triangulation<3> triangulation;
+      Triangulation<3>      triangulation;
       TKR::Mesh::read_mesh(parameters, triangulation);
       const auto s = TKR::Mesh::compute_statistics(triangulation);
 

@@ -35,11 +35,11 @@ namespace TKR::Contact
   {
   public:
     IpoptSolver(Elasticity::LinearElasticity &elasticity,
-                const Mortar::MortarCoupling  &coupling,
-                const double                   tolerance,
-                const double                   slave_youngs_modulus,
-                const MPI_Comm                 mpi_communicator,
-                dealii::TimerOutput           &timer);
+                const Mortar::MortarCoupling &coupling,
+                const double                  tolerance,
+                const double                  slave_youngs_modulus,
+                const MPI_Comm                mpi_communicator,
+                dealii::TimerOutput          &timer);
 
     /**
      * Solve; the solution goes into @p elasticity, pressures, gaps and the
@@ -54,11 +54,11 @@ namespace TKR::Contact
 
   private:
     Elasticity::LinearElasticity &elasticity;
-    const Mortar::MortarCoupling  &coupling;
-    const double                   tolerance;
-    const double                   slave_youngs_modulus;
-    const MPI_Comm                 mpi_communicator;
-    dealii::TimerOutput           &timer;
+    const Mortar::MortarCoupling &coupling;
+    const double                  tolerance;
+    const double                  slave_youngs_modulus;
+    const MPI_Comm                mpi_communicator;
+    dealii::TimerOutput          &timer;
   };
 } // namespace TKR::Contact
 

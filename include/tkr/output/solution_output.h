@@ -28,10 +28,10 @@ namespace TKR::Output
    */
   void
   report_mesh(const dealii::ConditionalOStream &out,
-              Summary                     &summary,
-              const Mesh::MeshStatistics &statistics,
-              const std::string           &filename,
-              const bool                   testing);
+              Summary                          &summary,
+              const Mesh::MeshStatistics       &statistics,
+              const std::string                &filename,
+              const bool                        testing);
 
   /**
    * Write the displacement, the stress tensor, the von Mises stress, the
@@ -41,12 +41,12 @@ namespace TKR::Output
    */
   void
   write_solution(
-    const Elasticity::LinearElasticity                  &elasticity,
-    const dealii::Mapping<3>                            &mapping,
-    VtuSeries                                           &series,
-    const unsigned int                                   index,
-    const double                                         time,
-    const std::function<void(dealii::DataOut<3> &)>     &add_fields = {});
+    const Elasticity::LinearElasticity              &elasticity,
+    const dealii::Mapping<3>                        &mapping,
+    VtuSeries                                       &series,
+    const unsigned int                               index,
+    const double                                     time,
+    const std::function<void(dealii::DataOut<3> &)> &add_fields = {});
 } // namespace TKR::Output
 
 #endif
