@@ -94,12 +94,13 @@ namespace TKR::Contact
         for (unsigned int e = 0; e < 3; ++e)
           if (e != d)
             constraints.add_entry(dofs[d], dofs[e], -n[e] / n[d]);
+        const Tensor<1, 3> n_master = node.master_normal;
         for (const auto &[k, M] : node.M)
           for (unsigned int e = 0; e < 3; ++e)
-            if (M * n[e] != 0.)
+            if (M * n_master[e] != 0.)
               constraints.add_entry(dofs[d],
                                     master_nodes[k].dofs[e],
-                                    M * n[e] * scale);
+                                    M * n_master[e] * scale);
         constraints.set_inhomogeneity(dofs[d], node.weighted_gap * scale);
       }
     constraints.merge(dirichlet,
@@ -136,21 +137,39 @@ namespace TKR::Contact
     const unsigned int n_slave      = nodes.size();
     const unsigned int master_start = 3 * n_slave;
 
-    if (state.active.size() != n_slave)
-      {
-        state.active.assign(n_slave, false);
-        for (unsigned int j = 0; j < n_slave; ++j)
-          state.active[j] = nodes[j].covered && nodes[j].weighted_gap <=
-                                                  initial_distance * nodes[j].D;
-      }
+    // Nodes within a distance of the closest covered node: for a tibia held
+    // only by contact, that closes the smallest gap first.
+    const auto near_closest = [&](const double distance) {
+      double min_gap = std::numeric_limits<double>::max();
+      for (const auto &node : nodes)
+        if (node.covered)
+          min_gap = std::min(min_gap, node.weighted_gap / node.D);
+      const double      threshold = std::max(min_gap, 0.) + distance;
+      std::vector<bool> near(n_slave, false);
+      for (unsigned int j = 0; j < n_slave; ++j)
+        near[j] =
+          nodes[j].covered && nodes[j].weighted_gap <= threshold * nodes[j].D;
+      return near;
+    };
+    if (state.active.size() != n_slave ||
+        std::count(state.active.begin(), state.active.end(), true) == 0)
+      state.active = near_closest(initial_distance);
+    else
+      // A warm start from another geometry: only covered nodes may be
+      // active (the sparsity pattern holds only their couplings).
+      for (unsigned int j = 0; j < n_slave; ++j)
+        state.active[j] = state.active[j] && nodes[j].covered;
     state.pressure.assign(n_slave, 0.);
     state.gap.assign(n_slave, std::numeric_limits<double>::quiet_NaN());
+    state.displacement.assign(n_slave, Tensor<1, 3>());
 
     ContactStatistics              statistics;
     std::vector<std::vector<bool>> history;
     AffineConstraints<double>      constraints;
     TrilinosWrappers::MPI::Vector  residual;
-    bool                           damped = false;
+    bool                           damped             = false;
+    unsigned int                   n_expansions       = 0;
+    double                         expansion_distance = initial_distance;
 
     for (unsigned int iteration = 1; iteration <= parameters.max_iterations;
          ++iteration)
@@ -176,22 +195,24 @@ namespace TKR::Contact
             const auto &node = nodes[j];
             if (!node.covered)
               continue;
-            Tensor<1, 3> r_j, mortar_u;
+            Tensor<1, 3> r_j, u_j, u_master;
             for (unsigned int e = 0; e < 3; ++e)
               {
-                r_j[e]      = r[3 * j + e];
-                mortar_u[e] = -node.D * u[3 * j + e];
+                r_j[e] = r[3 * j + e];
+                u_j[e] = u[3 * j + e];
               }
             for (const auto &[k, M] : node.M)
               for (unsigned int e = 0; e < 3; ++e)
-                mortar_u[e] += M * u[master_start + 3 * k + e];
+                u_master[e] += M * u[master_start + 3 * k + e];
             const double lambda = r_j * node.normal / node.D;
-            const double gap =
-              (node.weighted_gap + node.normal * mortar_u) / node.D;
-            const double c    = slave_youngs_modulus / std::sqrt(node.D);
-            state.pressure[j] = lambda;
-            state.gap[j]      = gap;
-            next[j]           = (lambda - c * gap > 0);
+            const double gap = (node.weighted_gap - node.D * node.normal * u_j +
+                                node.master_normal * u_master) /
+                               node.D;
+            state.displacement[j] = u_j;
+            const double c        = slave_youngs_modulus / std::sqrt(node.D);
+            state.pressure[j]     = lambda;
+            state.gap[j]          = gap;
+            next[j]               = (lambda - c * gap > 0);
             // How far the node is from satisfying its present status.
             violation[j] =
               state.active[j] ? std::max(0., -lambda) : std::max(0., -c * gap);
@@ -215,6 +236,23 @@ namespace TKR::Contact
 
         if (!linear.converged)
           {
+            // Typically a body held only by contact whose active set cannot
+            // hold it (singular system): add the nodes near the closest one,
+            // within a growing distance, and try again.
+            if (n_expansions < 4)
+              {
+                expansion_distance *= 4;
+                ++n_expansions;
+                const auto near = near_closest(expansion_distance);
+                for (unsigned int j = 0; j < n_slave; ++j)
+                  state.active[j] = state.active[j] || near[j];
+                pcout << "    the linear solver failed (singular?): active set "
+                         "widened to the nodes within "
+                      << expansion_distance << " mm of the closest"
+                      << std::endl;
+                history.clear();
+                continue;
+              }
             pcout << "    the linear solver did not converge" << std::endl;
             break;
           }

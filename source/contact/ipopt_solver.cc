@@ -270,7 +270,7 @@ namespace TKR::Contact
               {
                 qp->B_row.push_back(row);
                 qp->B_col.push_back(master_nodes[k].dofs[e]);
-                qp->B_value.push_back(M * nodes[j].normal[e]);
+                qp->B_value.push_back(M * nodes[j].master_normal[e]);
               }
         }
 
@@ -303,6 +303,7 @@ namespace TKR::Contact
     state.active.assign(nodes.size(), false);
     state.pressure.assign(nodes.size(), 0.);
     state.gap.assign(nodes.size(), std::numeric_limits<double>::quiet_NaN());
+    state.displacement.assign(nodes.size(), Tensor<1, 3>());
     for (unsigned int j = 0; j < nodes.size(); ++j)
       if (row_of_node[j] != numbers::invalid_unsigned_int &&
           !qp->lambda_solution.empty())
@@ -314,11 +315,13 @@ namespace TKR::Contact
                  qp->x_solution[slave_nodes[j].dofs[e]];
           for (const auto &[k, M] : nodes[j].M)
             for (unsigned int e = 0; e < 3; ++e)
-              g += M * nodes[j].normal[e] *
+              g += M * nodes[j].master_normal[e] *
                    qp->x_solution[master_nodes[k].dofs[e]];
           state.pressure[j] = lambda;
           state.gap[j]      = g / nodes[j].D;
-          state.active[j]   = lambda - slave_youngs_modulus /
+          for (unsigned int e = 0; e < 3; ++e)
+            state.displacement[j][e] = qp->x_solution[slave_nodes[j].dofs[e]];
+          state.active[j] = lambda - slave_youngs_modulus /
                                        std::sqrt(nodes[j].D) * state.gap[j] >
                             0;
           if (state.active[j])

@@ -33,6 +33,35 @@ namespace TKR::Elasticity
            2. * material.mu() * strain;
   }
 
+  bool
+  BoundaryLoads::acts_on(const types::boundary_id id) const
+  {
+    return tractions.count(id) || springs.count(id) ||
+           traction_fields.count(id) || spring_fields.count(id);
+  }
+
+  Tensor<1, 3>
+  BoundaryLoads::traction(const types::boundary_id id, const Point<3> &x) const
+  {
+    Tensor<1, 3> t;
+    if (const auto it = tractions.find(id); it != tractions.end())
+      t += it->second;
+    if (const auto it = traction_fields.find(id); it != traction_fields.end())
+      t += it->second(x);
+    return t;
+  }
+
+  Tensor<2, 3>
+  BoundaryLoads::spring(const types::boundary_id id, const Point<3> &x) const
+  {
+    Tensor<2, 3> S;
+    if (const auto it = springs.find(id); it != springs.end())
+      S += it->second;
+    if (const auto it = spring_fields.find(id); it != spring_fields.end())
+      S += it->second(x);
+    return S;
+  }
+
   const Parameters::Material &
   material_of(const Parameters::Materials &materials,
               const types::material_id     material_id)
@@ -141,31 +170,28 @@ namespace TKR::Elasticity
         cell_matrix(i, j) = cell_matrix(j, i);
 
     for (const auto f : cell->face_indices())
-      if (cell->face(f)->at_boundary())
+      if (cell->face(f)->at_boundary() &&
+          loads.acts_on(cell->face(f)->boundary_id()))
         {
-          const auto id       = cell->face(f)->boundary_id();
-          const auto traction = loads.tractions.find(id);
-          const auto spring   = loads.springs.find(id);
-          if (traction == loads.tractions.end() &&
-              spring == loads.springs.end())
-            continue;
+          const auto id = cell->face(f)->boundary_id();
           fe_face_values.reinit(cell, f);
           for (const unsigned int q : fe_face_values.quadrature_point_indices())
-            for (unsigned int i = 0; i < dofs_per_cell; ++i)
-              {
-                const Tensor<1, 3> v_i =
-                  fe_face_values[displacement].value(i, q);
-                const double JxW = fe_face_values.JxW(q);
-                if (traction != loads.tractions.end())
-                  cell_rhs(i) += traction->second * v_i * JxW;
-                if (spring != loads.springs.end())
+            {
+              const Point<3>    &x   = fe_face_values.quadrature_point(q);
+              const Tensor<1, 3> t   = loads.traction(id, x);
+              const Tensor<2, 3> S   = loads.spring(id, x);
+              const double       JxW = fe_face_values.JxW(q);
+              for (unsigned int i = 0; i < dofs_per_cell; ++i)
+                {
+                  const Tensor<1, 3> v_i =
+                    fe_face_values[displacement].value(i, q);
+                  cell_rhs(i) += t * v_i * JxW;
                   for (unsigned int j = 0; j < dofs_per_cell; ++j)
                     cell_matrix(i, j) +=
-                      v_i *
-                      (spring->second *
-                       fe_face_values[displacement].value(j, q)) *
+                      v_i * (S * fe_face_values[displacement].value(j, q)) *
                       JxW;
-              }
+                }
+            }
         }
   }
 
@@ -188,7 +214,8 @@ namespace TKR::Elasticity
     FEFaceValues<3>    fe_face_values(mapping,
                                    fe,
                                    QGauss<2>(fe.degree + 1),
-                                   update_values | update_JxW_values);
+                                   update_values | update_quadrature_points |
+                                     update_JxW_values);
     FullMatrix<double> cell_matrix(fe.n_dofs_per_cell(), fe.n_dofs_per_cell());
     Vector<double>     cell_rhs(fe.n_dofs_per_cell());
     std::vector<types::global_dof_index> dof_indices(fe.n_dofs_per_cell());
@@ -227,7 +254,8 @@ namespace TKR::Elasticity
     FEFaceValues<3>    fe_face_values(mapping,
                                    fe,
                                    QGauss<2>(fe.degree + 1),
-                                   update_values | update_JxW_values);
+                                   update_values | update_quadrature_points |
+                                     update_JxW_values);
     FullMatrix<double> cell_matrix(fe.n_dofs_per_cell(), fe.n_dofs_per_cell());
     Vector<double>     cell_rhs(fe.n_dofs_per_cell());
     Vector<double>     cell_u(fe.n_dofs_per_cell());

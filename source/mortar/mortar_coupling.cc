@@ -68,7 +68,8 @@ namespace TKR::Mortar
 
   void
   MortarCoupling::reinit(const std::vector<Point<3>> &positions,
-                         const double                 search_distance)
+                         const double                 search_distance,
+                         const Tensor<2, 3>          &master_rotation)
   {
     const auto &slave_faces  = slave.faces();
     const auto &master_faces = master.faces();
@@ -132,10 +133,28 @@ namespace TKR::Mortar
           slave.orientation(e, positions) * slave_quad.area_normal(centre);
         n0 /= n0.norm();
 
+        // Candidates: master faces whose boxes meet the slave face's box
+        // stretched along its normal by the search distance (and by a
+        // little tangentially). Stretching only along the normal keeps the
+        // number of candidates per face independent of the mesh size.
         candidates.clear();
-        tree.query(boost::geometry::index::intersects(
-                     face_box(slave_quad.vertices, search_distance)),
-                   std::back_inserter(candidates));
+        {
+          BoundingBox<3> box        = face_box(slave_quad.vertices, 0.);
+          auto           corners    = box.get_boundary_points();
+          const double   tangential = 0.05 * box.side_length(0) +
+                                    0.05 * box.side_length(1) +
+                                    0.05 * box.side_length(2);
+          for (unsigned int d = 0; d < 3; ++d)
+            {
+              const double margin =
+                search_distance * std::abs(n0[d]) + tangential;
+              corners.first[d] -= margin;
+              corners.second[d] += margin;
+            }
+          tree.query(boost::geometry::index::intersects(
+                       BoundingBox<3>(corners)),
+                     std::back_inserter(candidates));
+        }
         stats.n_candidate_pairs += candidates.size();
 
         double covered = 0;
@@ -240,7 +259,16 @@ namespace TKR::Mortar
           -node.D * positions[slave_list[j].vertex];
         for (const auto &[k, value] : node.M)
           mortar_difference += value * positions[master_nodes[k].vertex];
-        node.weighted_gap = node.normal * mortar_difference;
+        node.weighted_gap  = node.normal * mortar_difference;
+        node.master_normal = transpose(master_rotation) * node.normal;
+        double row_sum     = 0;
+        for (const auto &[k, value] : node.M)
+          {
+            row_sum += value;
+            node.master_point += value * positions[master_nodes[k].vertex];
+          }
+        if (row_sum != 0.)
+          node.master_point /= row_sum;
         if (node.covered)
           ++stats.n_covered_nodes;
       }

@@ -29,6 +29,8 @@ namespace TKR::Contact
     std::vector<bool>   active;
     std::vector<double> pressure;
     std::vector<double> gap;
+    /** Displacement of each slave node (mm, global frame). */
+    std::vector<dealii::Tensor<1, 3>> displacement;
 
     /** Number of active nodes. */
     unsigned int
@@ -88,8 +90,8 @@ namespace TKR::Contact
 
     /**
      * Solve the contact problem. @p state holds the initial active set (an
-     * empty vector: the nodes whose gap is at most @p initial_distance mm)
-     * and returns the final state.
+     * empty vector: the nodes whose gap exceeds the smallest gap by at most
+     * @p initial_distance mm) and returns the final state.
      */
     ContactStatistics
     solve(const dealii::Mapping<3>        &mapping,
@@ -106,14 +108,14 @@ namespace TKR::Contact
     std::vector<double>
     gather(const dealii::TrilinosWrappers::MPI::Vector &vector) const;
 
-    Elasticity::LinearElasticity     &elasticity;
-    const Mortar::MortarCoupling     &coupling;
-    const Parameters::ContactSolver   parameters;
-    const double                      slave_youngs_modulus;
-    const MPI_Comm                    mpi_communicator;
-    const dealii::ConditionalOStream &pcout;
-    dealii::TimerOutput              &timer;
-    const bool                        testing;
+    Elasticity::LinearElasticity    &elasticity;
+    const Mortar::MortarCoupling    &coupling;
+    const Parameters::ContactSolver  parameters;
+    const double                     slave_youngs_modulus;
+    const MPI_Comm                   mpi_communicator;
+    const dealii::ConditionalOStream pcout;
+    dealii::TimerOutput             &timer;
+    const bool                       testing;
 
     dealii::AffineConstraints<double> dirichlet;
     /** Slave node DoFs (3 per node) followed by master node DoFs. */

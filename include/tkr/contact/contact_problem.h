@@ -48,6 +48,13 @@ namespace TKR::Contact
       return state;
     }
 
+    /** The mortar coupling of the solve (D, M, normals, gaps). */
+    const Mortar::MortarCoupling &
+    get_coupling() const
+    {
+      return *coupling;
+    }
+
   private:
     void
     make_grid();

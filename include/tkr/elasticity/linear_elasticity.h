@@ -22,6 +22,7 @@
 
 #include <tkr/parameters/parameters.h>
 
+#include <functional>
 #include <map>
 #include <memory>
 
@@ -44,15 +45,36 @@ namespace TKR::Elasticity
               const dealii::types::material_id material_id);
 
   /**
-   * Loads and supports on boundary parts, by boundary id: uniform tractions
-   * t (MPa) and distributed linear springs, traction = -S u with S in
-   * MPa/mm (a spring of total stiffness k N/mm spread uniformly over an
-   * area A has S = k/A in its direction).
+   * Loads and supports on boundary parts, by boundary id: tractions t (MPa)
+   * and distributed linear springs, traction = -S u with S in MPa/mm (a
+   * spring of total stiffness k N/mm spread uniformly over an area A has
+   * S = k/A in its direction). Uniform ones in `tractions` and `springs`,
+   * spatially varying ones as functions of the point in the `..._fields`
+   * maps; both may act on the same part.
    */
   struct BoundaryLoads
   {
+    using TractionField =
+      std::function<dealii::Tensor<1, 3>(const dealii::Point<3> &)>;
+    using SpringField =
+      std::function<dealii::Tensor<2, 3>(const dealii::Point<3> &)>;
+
     std::map<dealii::types::boundary_id, dealii::Tensor<1, 3>> tractions;
     std::map<dealii::types::boundary_id, dealii::Tensor<2, 3>> springs;
+    std::map<dealii::types::boundary_id, TractionField>        traction_fields;
+    std::map<dealii::types::boundary_id, SpringField>          spring_fields;
+
+    /** Does anything act on boundary part @p id? */
+    bool
+    acts_on(const dealii::types::boundary_id id) const;
+
+    /** The total traction and spring tensor at point @p x of part @p id. */
+    dealii::Tensor<1, 3>
+    traction(const dealii::types::boundary_id id,
+             const dealii::Point<3>          &x) const;
+    dealii::Tensor<2, 3>
+    spring(const dealii::types::boundary_id id,
+           const dealii::Point<3>          &x) const;
   };
 
   /** What a linear solve did. */

@@ -5,6 +5,7 @@
 #define tkr_mortar_mortar_coupling_h
 
 #include <deal.II/base/point.h>
+#include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/tensor.h>
 
 #include <tkr/mortar/contact_surface.h>
@@ -30,8 +31,19 @@ namespace TKR::Mortar
     double D = 0;
     /** Nodal unit normal, pointing out of the slave body. */
     dealii::Tensor<1, 3> normal;
+    /**
+     * The nodal normal expressed in the frame of the master displacement
+     * DoFs: R^T n_j if the master body is rotated by R but its
+     * displacements are kept in its own (co-rotated) frame, else n_j.
+     */
+    dealii::Tensor<1, 3> master_normal;
     /** Weighted gap g_j in mm^3; g_j / D_jj is a distance (mm). */
     double weighted_gap = 0;
+    /**
+     * The master point that node j touches, sum_k M_jk x_k / sum_k M_jk
+     * (current positions): the mortar projection of the node.
+     */
+    dealii::Point<3> master_point;
     /** (master node, M_jk) pairs. */
     std::vector<std::pair<unsigned int, double>> M;
     /**
@@ -82,11 +94,15 @@ namespace TKR::Mortar
      * Compute D, M, normals and weighted gaps for the vertex positions
      * @p positions (indexed by triangulation vertex). Master faces farther
      * than @p search_distance (mm) from a slave face, or facing the same
-     * way as it, are not coupled to it.
+     * way as it, are not coupled to it. @p master_rotation is the rotation
+     * R of the master body whose displacement DoFs live in its co-rotated
+     * frame (identity: displacements in the global frame).
      */
     void
     reinit(const std::vector<dealii::Point<3>> &positions,
-           const double                         search_distance);
+           const double                         search_distance,
+           const dealii::Tensor<2, 3>          &master_rotation =
+             dealii::unit_symmetric_tensor<3>());
 
     const std::vector<SlaveNode> &
     slave_nodes() const
