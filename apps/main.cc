@@ -10,6 +10,7 @@
 #include <tkr/contact/contact_problem.h>
 #include <tkr/elasticity/elasticity_problem.h>
 #include <tkr/parameters/parameters.h>
+#include <tkr/wear/wear_problem.h>
 
 #include <iostream>
 #include <string>
@@ -47,13 +48,10 @@ namespace
             return problem.run() ? 0 : 1;
           }
         case Parameters::ProblemType::wear:
-          AssertThrow(false,
-                      ExcInputError(
-                        "Problem = " +
-                        Parameters::to_string(parameters.problem) + " (in <" +
-                        filename +
-                        ">) is not implemented yet in this version of "
-                        "tkr-wear; Problem = elasticity and contact are."));
+          {
+            Wear::WearProblem problem(parameters, mpi_communicator);
+            return problem.run() ? 0 : 1;
+          }
       }
     return 1;
   }

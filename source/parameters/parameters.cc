@@ -303,6 +303,30 @@ namespace TKR::Parameters
                         Patterns::Double(0),
                         "Internal-external rotation restraint spring, "
                         "N mm/deg.");
+      prm.declare_entry("Axial stabilisation spring",
+                        "100",
+                        Patterns::Double(0),
+                        "Total stiffness in N/mm of an axial spring spread "
+                        "over the tibial inferior surface that acts on the "
+                        "tibia's displacement relative to its current pose "
+                        "(rigid translation) only. It keeps every linear "
+                        "system regular while the active set is wrong and "
+                        "vanishes as the pose iteration converges (its force "
+                        "is then below this times 1e-3 mm).");
+      prm.declare_entry("Step groups",
+                        "0",
+                        Patterns::Integer(0),
+                        "The steps of a cycle are independent: the MPI ranks "
+                        "are split into this many groups, each solving every "
+                        "n-th step on its own copy of the mesh (0: one group "
+                        "per rank). The result does not depend on it.");
+      prm.declare_entry("ML spring stiffness",
+                        "0",
+                        Patterns::Double(0),
+                        "Medial-lateral spring, N/mm. Not part of ISO "
+                        "14243-1 (the tibia is free medial-laterally and "
+                        "held by the conformity of the insert); a small "
+                        "value stabilises very flat inserts.");
       prm.declare_entry("AP force sign",
                         "1",
                         Patterns::Selection("1|-1"),
@@ -331,8 +355,11 @@ namespace TKR::Parameters
       axial_load_offset   = prm.get_double("Axial load offset");
       ap_spring_stiffness = prm.get_double("AP spring stiffness");
       ie_spring_stiffness = prm.get_double("IE spring stiffness");
-      ap_force_sign       = prm.get_double("AP force sign");
-      ie_torque_sign      = prm.get_double("IE torque sign");
+      ml_spring_stiffness = prm.get_double("ML spring stiffness");
+      step_groups         = prm.get_integer("Step groups");
+      axial_stabilisation_spring = prm.get_double("Axial stabilisation spring");
+      ap_force_sign              = prm.get_double("AP force sign");
+      ie_torque_sign             = prm.get_double("IE torque sign");
     }
     prm.leave_subsection();
   }
@@ -413,7 +440,7 @@ namespace TKR::Parameters
                         "start in the active set (when there is no warm "
                         "start).");
       prm.declare_entry("Overlap tolerance",
-                        "0.01",
+                        "0.05",
                         Patterns::Double(0),
                         "The bodies may overlap by at most this (mm) in the "
                         "initial geometry; more is refused as a mesh error.");

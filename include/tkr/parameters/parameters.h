@@ -143,10 +143,17 @@ namespace TKR::Parameters
     int medial_direction;
     /** Medial offset of the axial load line as a fraction of the width. */
     double axial_load_offset;
-    /** Restraint springs: AP in N/mm, IE in N mm/deg. */
-    double ap_spring_stiffness, ie_spring_stiffness;
+    /** Restraint springs: AP and ML in N/mm, IE in N mm/deg. */
+    double ap_spring_stiffness, ie_spring_stiffness, ml_spring_stiffness;
     /** Sign applied to the tabulated AP force and IE torque. */
     double ap_force_sign, ie_torque_sign;
+    /**
+     * Axial spring (N/mm) on the tibia's displacement relative to its pose:
+     * numerical stabilisation that vanishes as the pose iteration converges.
+     */
+    double axial_stabilisation_spring;
+    /** MPI groups that share the steps of a cycle (0: one per rank). */
+    unsigned int step_groups;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);

@@ -1,0 +1,102 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#ifndef tkr_gait_gait_loads_h
+#define tkr_gait_gait_loads_h
+
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+
+#include <deal.II/grid/tria.h>
+
+#include <tkr/elasticity/linear_elasticity.h>
+#include <tkr/gait/waveform.h>
+#include <tkr/parameters/parameters.h>
+
+namespace TKR::Gait
+{
+  /**
+   * Area moments of the tibial inferior surface about its centroid (in the
+   * x-y plane), for distributing forces, torques and springs over it, and
+   * the medial-lateral width of the insert.
+   */
+  struct InferiorSurface
+  {
+    double           area = 0;
+    dealii::Point<3> centroid;
+    /** int (x-xc)^2, int (y-yc)^2, int r^2, int r^4 over the surface. */
+    double I_xx = 0, I_yy = 0, J = 0, R4 = 0;
+    /** Medial-lateral (x) extent of the tibia, mm. */
+    double width = 0;
+  };
+
+  /** Measure the `tibia_inferior` surface and the tibia's width. */
+  InferiorSurface
+  measure_inferior_surface(const dealii::Triangulation<3> &triangulation);
+
+  /**
+   * The ISO 14243-1 loads of one gait state on the tibia, and the femur's
+   * rigid flexion rotation (DESIGN.md section 2).
+   *
+   * Conventions (x medial-lateral, y anterior, z proximal): flexion by an
+   * angle theta rotates the femur by +theta about the +x axis through the
+   * flexion axis point (the femoral shaft turns from +z towards -y, the
+   * posterior condyles come down). The axial force pushes the tibia along
+   * +z, its line of action offset medially by `Axial load offset` x width.
+   * The AP force acts along +y (anterior) times `AP force sign`. A positive
+   * IE torque rotates the tibia internally (its anterior side towards
+   * medial), i.e. about -z if medial is +x, times `IE torque sign`.
+   *
+   * All act on `tibia_inferior` as tractions: the axial force as a uniform
+   * part plus a linear part carrying the offset moment, the AP force
+   * uniform, the torque as a traction proportional to the distance from
+   * the centroid. The restraint springs are distributed springs whose
+   * stiffness against a rigid translation in y is the AP stiffness and
+   * against a rigid rotation about z through the centroid the IE
+   * stiffness; in x they add a by-product of the rotation spring to the ML
+   * stiffness.
+   */
+  class GaitLoads
+  {
+  public:
+    GaitLoads(const Parameters::Gait &parameters,
+              const InferiorSurface  &surface);
+
+    /** Tractions and springs on `tibia_inferior` for @p state. */
+    Elasticity::BoundaryLoads
+    loads(const GaitState &state) const;
+
+    /** The femur's rotation for the flexion angle of @p state. */
+    dealii::Tensor<2, 3>
+    femur_rotation(const GaitState &state) const;
+
+    /** Where the femur's reference point @p X is in @p state. */
+    dealii::Point<3>
+    femur_position(const dealii::Point<3> &X, const GaitState &state) const;
+
+    /** Area of the inferior surface (mm^2). */
+    double
+    inferior_area() const
+    {
+      return surface.area;
+    }
+
+    /** The prescribed resultant force (N) on the tibia. */
+    dealii::Tensor<1, 3>
+    force(const GaitState &state) const;
+
+    /**
+     * The prescribed resultant moment (N mm) about the centroid of the
+     * inferior surface: the axial offset's moment about y and the IE
+     * torque about z.
+     */
+    dealii::Tensor<1, 3>
+    moment(const GaitState &state) const;
+
+  private:
+    const Parameters::Gait parameters;
+    const InferiorSurface  surface;
+  };
+} // namespace TKR::Gait
+
+#endif

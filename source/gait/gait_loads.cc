@@ -1,0 +1,174 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#include <deal.II/base/numbers.h>
+#include <deal.II/base/quadrature_lib.h>
+
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping_q1.h>
+
+#include <deal.II/grid/grid_tools.h>
+
+#include <tkr/base/exceptions.h>
+#include <tkr/gait/gait_loads.h>
+#include <tkr/mesh/mesh.h>
+
+namespace TKR::Gait
+{
+  using namespace dealii;
+
+  InferiorSurface
+  measure_inferior_surface(const Triangulation<3> &triangulation)
+  {
+    const FE_Q<3>      fe(1);
+    const MappingQ1<3> mapping;
+    FEFaceValues<3>    fe_face_values(mapping,
+                                   fe,
+                                   QGauss<2>(3),
+                                   update_quadrature_points |
+                                     update_JxW_values);
+    InferiorSurface    surface;
+    double             x_min = 1e300, x_max = -1e300;
+    // Two passes: the centroid first, then the moments about it.
+    for (unsigned int pass = 0; pass < 2; ++pass)
+      for (const auto &cell : triangulation.active_cell_iterators())
+        {
+          if (pass == 0 && cell->material_id() == Mesh::MaterialIds::tibia)
+            for (const auto v : cell->vertex_indices())
+              {
+                x_min = std::min(x_min, cell->vertex(v)[0]);
+                x_max = std::max(x_max, cell->vertex(v)[0]);
+              }
+          for (const auto f : cell->face_indices())
+            if (cell->face(f)->at_boundary() &&
+                cell->face(f)->boundary_id() ==
+                  Mesh::BoundaryIds::tibia_inferior)
+              {
+                fe_face_values.reinit(cell, f);
+                for (const unsigned int q :
+                     fe_face_values.quadrature_point_indices())
+                  {
+                    const Point<3> &x   = fe_face_values.quadrature_point(q);
+                    const double    JxW = fe_face_values.JxW(q);
+                    if (pass == 0)
+                      {
+                        surface.area += JxW;
+                        surface.centroid += JxW * x;
+                        continue;
+                      }
+                    const double dx = x[0] - surface.centroid[0];
+                    const double dy = x[1] - surface.centroid[1];
+                    const double r2 = dx * dx + dy * dy;
+                    surface.I_xx += dx * dx * JxW;
+                    surface.I_yy += dy * dy * JxW;
+                    surface.J += r2 * JxW;
+                    surface.R4 += r2 * r2 * JxW;
+                  }
+              }
+          if (pass == 0 && cell == triangulation.last_active())
+            surface.centroid /= surface.area;
+        }
+    surface.width = x_max - x_min;
+    return surface;
+  }
+
+  GaitLoads::GaitLoads(const Parameters::Gait &parameters,
+                       const InferiorSurface  &surface)
+    : parameters(parameters)
+    , surface(surface)
+  {
+    AssertThrow(surface.area > 0 && surface.J > 0,
+                ExcInputError("The tibia_inferior surface has no area."));
+  }
+
+  Tensor<1, 3>
+  GaitLoads::force(const GaitState &state) const
+  {
+    return Tensor<1, 3>(
+      {0., parameters.ap_force_sign * state.ap_force, state.axial_force});
+  }
+
+  Tensor<1, 3>
+  GaitLoads::moment(const GaitState &state) const
+  {
+    // The axial force F_z at x_c + e has the moment -e F_z about +y; the IE
+    // torque (N m -> N mm) acts about -z for internal rotation if medial is
+    // +x.
+    const double e = parameters.medial_direction *
+                     parameters.axial_load_offset * surface.width;
+    return Tensor<1, 3>({0.,
+                         -e * state.axial_force,
+                         -parameters.medial_direction *
+                           parameters.ie_torque_sign * 1e3 * state.ie_torque});
+  }
+
+  // With dx, dy measured from the centroid: the traction
+  //   t_z = F/A + (F e) dx / I_xx        carries F_z and the offset moment,
+  //   t_y = F_AP / A                     the AP force,
+  //   t   = T (-dy, dx, 0) / J           the torque T about z,
+  // and the springs S = k_x e_x e_x + k_y e_y e_y + beta w w^T with
+  // w = (-dy, dx, 0) have the rigid-body stiffnesses k_AP in y and k_IE
+  // against a rotation about z once k_y and beta are chosen as below.
+  Elasticity::BoundaryLoads
+  GaitLoads::loads(const GaitState &state) const
+  {
+    const Tensor<1, 3> F    = force(state);
+    const Tensor<1, 3> M    = moment(state);
+    const double       e    = -M[1] / (F[2] != 0. ? F[2] : 1.);
+    const double       A    = surface.area;
+    const Point<3>     c    = surface.centroid;
+    const double       I_xx = surface.I_xx, J = surface.J;
+
+    Elasticity::BoundaryLoads loads;
+    loads.traction_fields[Mesh::BoundaryIds::tibia_inferior] =
+      [=](const Point<3> &x) {
+        const double dx = x[0] - c[0], dy = x[1] - c[1];
+        return Tensor<1, 3>({-M[2] * dy / J,
+                             F[1] / A + M[2] * dx / J,
+                             F[2] / A + F[2] * e * dx / I_xx});
+      };
+
+    // A rotation spring beta w w^T also resists translations (by beta I_yy
+    // in x and beta I_xx in y). The y spring is reduced by that amount so
+    // that the AP and IE stiffnesses are exact; in x the by-product adds to
+    // the ML spring (documented in doc/gait.md).
+    const double k_x  = parameters.ml_spring_stiffness / A;
+    const double K_ap = parameters.ap_spring_stiffness;
+    const double K_ie = parameters.ie_spring_stiffness * 180. / numbers::PI;
+    const double beta =
+      std::max(0.,
+               (K_ie - k_x * surface.I_yy - K_ap * surface.I_xx / A) /
+                 (surface.R4 - surface.I_xx * surface.I_xx / A));
+    const double k_y = std::max(0., (K_ap - beta * surface.I_xx) / A);
+    loads.spring_fields[Mesh::BoundaryIds::tibia_inferior] =
+      [=](const Point<3> &x) {
+        const Tensor<1, 3> w({-(x[1] - c[1]), x[0] - c[0], 0.});
+        Tensor<2, 3>       S = beta * outer_product(w, w);
+        S[0][0] += k_x;
+        S[1][1] += k_y;
+        return S;
+      };
+    return loads;
+  }
+
+  Tensor<2, 3>
+  GaitLoads::femur_rotation(const GaitState &state) const
+  {
+    const double theta = state.flexion * numbers::PI / 180.;
+    Tensor<2, 3> R;
+    R[0][0] = 1.;
+    R[1][1] = std::cos(theta);
+    R[1][2] = -std::sin(theta);
+    R[2][1] = std::sin(theta);
+    R[2][2] = std::cos(theta);
+    return R;
+  }
+
+  Point<3>
+  GaitLoads::femur_position(const Point<3> &X, const GaitState &state) const
+  {
+    const Point<3> &P = parameters.flexion_axis_point;
+    return P + femur_rotation(state) * (X - P);
+  }
+} // namespace TKR::Gait

@@ -1,0 +1,96 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#include <tkr/wear/archard.h>
+
+namespace TKR::Wear
+{
+  using namespace dealii;
+
+  StepRecord
+  make_step_record(const Mortar::MortarCoupling &coupling,
+                   const Contact::ContactState  &state,
+                   const RigidMotion            &femur_motion)
+  {
+    const auto        &nodes = coupling.slave_nodes();
+    const unsigned int n     = nodes.size();
+    StepRecord         record;
+    record.femur_motion = femur_motion;
+    record.pressure.assign(n, 0.);
+    record.femur_point.assign(n, Point<3>());
+    record.displacement.assign(n, Tensor<1, 3>());
+    record.normal.assign(n, Tensor<1, 3>());
+    for (unsigned int j = 0; j < n; ++j)
+      {
+        record.normal[j] = nodes[j].normal;
+        if (j < state.displacement.size())
+          record.displacement[j] = state.displacement[j];
+        if (j < state.active.size() && state.active[j])
+          {
+            record.pressure[j]    = std::max(0., state.pressure[j]);
+            record.femur_point[j] = femur_motion.inverse(nodes[j].master_point);
+          }
+      }
+    return record;
+  }
+
+  namespace
+  {
+    /** Tangential slip of node j over the interval a -> b from point X. */
+    double
+    slip_distance(const StepRecord   &a,
+                  const StepRecord   &b,
+                  const unsigned int  j,
+                  const Point<3>     &X,
+                  const Tensor<1, 3> &normal)
+    {
+      const Tensor<1, 3> relative = (b.femur_motion(X) - a.femur_motion(X)) -
+                                    (b.displacement[j] - a.displacement[j]);
+      return (relative - (relative * normal) * normal).norm();
+    }
+  } // namespace
+
+  std::vector<double>
+  cycle_wear_depth(const std::vector<StepRecord> &steps,
+                   const double                   k,
+                   std::vector<double>           *slip)
+  {
+    const unsigned int  n_steps = steps.size();
+    const unsigned int  n_nodes = n_steps > 0 ? steps[0].pressure.size() : 0;
+    std::vector<double> depth(n_nodes, 0.);
+    if (slip)
+      slip->assign(n_nodes, 0.);
+    for (unsigned int i = 0; i < n_steps; ++i)
+      {
+        const StepRecord &a = steps[i];
+        const StepRecord &b = steps[(i + 1) % n_steps];
+        for (unsigned int j = 0; j < n_nodes; ++j)
+          {
+            const double s_a =
+              a.pressure[j] > 0 ?
+                slip_distance(a, b, j, a.femur_point[j], a.normal[j]) :
+                0.;
+            const double s_b =
+              b.pressure[j] > 0 ?
+                slip_distance(a, b, j, b.femur_point[j], b.normal[j]) :
+                0.;
+            depth[j] += 0.5 * k * (a.pressure[j] * s_a + b.pressure[j] * s_b);
+            if (slip && (a.pressure[j] > 0 || b.pressure[j] > 0))
+              (*slip)[j] += (a.pressure[j] > 0 && b.pressure[j] > 0) ?
+                              0.5 * (s_a + s_b) :
+                              std::max(s_a, s_b);
+          }
+      }
+    return depth;
+  }
+
+  double
+  worn_volume(const std::vector<double>    &depth,
+              const Mortar::MortarCoupling &coupling)
+  {
+    double volume = 0;
+    for (unsigned int j = 0; j < depth.size(); ++j)
+      volume += depth[j] * coupling.slave_nodes()[j].D;
+    return volume;
+  }
+} // namespace TKR::Wear

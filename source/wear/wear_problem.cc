@@ -1,0 +1,619 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/timer.h>
+
+#include <deal.II/fe/fe_values.h>
+
+#include <deal.II/numerics/vector_tools.h>
+
+#include <tkr/base/exceptions.h>
+#include <tkr/mesh/mesh.h>
+#include <tkr/output/solution_output.h>
+#include <tkr/wear/wear_problem.h>
+
+#include <fstream>
+#include <iomanip>
+
+namespace TKR::Wear
+{
+  using namespace dealii;
+
+  StepGroups::StepGroups(const MPI_Comm world, const unsigned int requested)
+  {
+    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(world);
+    const unsigned int rank    = Utilities::MPI::this_mpi_process(world);
+    n_groups       = (requested == 0 ? n_ranks : std::min(requested, n_ranks));
+    index          = rank * n_groups / n_ranks;
+    const int ierr = MPI_Comm_split(world, index, rank, &communicator);
+    AssertThrowMPI(ierr);
+    is_group_root = Utilities::MPI::this_mpi_process(communicator) == 0;
+  }
+
+  StepGroups::~StepGroups()
+  {
+    MPI_Comm_free(&communicator);
+  }
+
+  WearProblem::WearProblem(const Parameters::AllParameters &parameters,
+                           const MPI_Comm                   mpi_communicator)
+    : parameters(parameters)
+    , world(mpi_communicator)
+    , groups(mpi_communicator, parameters.gait.step_groups)
+    , pcout(std::cout, Utilities::MPI::this_mpi_process(world) == 0)
+    , timer(pcout,
+            parameters.output.testing ? TimerOutput::never :
+                                        TimerOutput::summary,
+            TimerOutput::wall_times)
+    , triangulation(groups.communicator,
+                    Triangulation<3>::none,
+                    /*allow_artificial_cells=*/false,
+                    parallel::shared::Triangulation<3>::partition_metis)
+    , elasticity(triangulation,
+                 parameters.materials,
+                 parameters.linear_solver,
+                 parameters.mesh.fe_degree,
+                 groups.communicator,
+                 timer)
+    , n_steps(parameters.gait.steps_per_cycle)
+  {}
+
+  void
+  WearProblem::make_grid()
+  {
+    TimerOutput::Scope scope(timer, "read mesh");
+    Mesh::read_mesh(parameters.mesh, triangulation);
+    Output::report_mesh(pcout,
+                        summary,
+                        Mesh::compute_statistics(triangulation),
+                        parameters.mesh.file,
+                        parameters.output.testing);
+    is_femur_vertex.assign(triangulation.n_vertices(), false);
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->material_id() == Mesh::MaterialIds::femur)
+        for (const auto v : cell->vertex_indices())
+          is_femur_vertex[cell->vertex_index(v)] = true;
+
+    const Gait::InferiorSurface surface =
+      Gait::measure_inferior_surface(triangulation);
+    gait_loads = std::make_unique<Gait::GaitLoads>(parameters.gait, surface);
+    pcout << "Tibia inferior surface: " << surface.area
+          << " mm^2, insert width " << surface.width << " mm" << std::endl;
+  }
+
+  void
+  WearProblem::setup_system()
+  {
+    waveform = std::make_unique<Gait::Waveform>(parameters.gait.waveform_file);
+    elasticity.distribute_dofs();
+    const auto &dof_handler = elasticity.get_dof_handler();
+    pcout << "Degrees of freedom: " << dof_handler.n_dofs()
+          << ", MPI ranks: " << Utilities::MPI::n_mpi_processes(world) << " in "
+          << groups.n_groups << " step group(s)" << std::endl;
+    summary.set("dofs", static_cast<unsigned long long>(dof_handler.n_dofs()));
+
+    // The femur is clamped on its fixation surface (in its co-rotated
+    // frame); the tibia has no displacement condition.
+    dirichlet.clear();
+    VectorTools::interpolate_boundary_values(mapping,
+                                             dof_handler,
+                                             Mesh::BoundaryIds::femur_fixation,
+                                             Functions::ZeroFunction<3>(3),
+                                             dirichlet);
+    dirichlet.close();
+
+    slave = std::make_unique<Mortar::ContactSurface>(
+      dof_handler,
+      Mesh::BoundaryIds::tibia_contact);
+    master = std::make_unique<Mortar::ContactSurface>(
+      dof_handler,
+      Mesh::BoundaryIds::femur_contact);
+    coupling = std::make_unique<Mortar::MortarCoupling>(*slave, *master);
+    solver   = std::make_unique<Contact::ActiveSetSolver>(
+      elasticity,
+      *coupling,
+      parameters.contact_solver,
+      parameters.materials.tibia.youngs_modulus,
+      groups.communicator,
+      ConditionalOStream(std::cout, false),
+      timer,
+      parameters.output.testing);
+    records.assign(n_steps, StepRecord());
+    reports.assign(n_steps, StepReport());
+    if (parameters.output.vtu_interval > 0)
+      step_series =
+        std::make_unique<Output::VtuSeries>(parameters.output.directory,
+                                            "step",
+                                            groups.communicator);
+  }
+
+  // One gait step: the femur's position for the flexion angle, the mortar
+  // coupling on that geometry, the loads of the step, and the contact
+  // solve warm-started from this group's previous step.
+  //
+  // Under load control the tibia moves by millimetres (AP and ML sliding in
+  // the dishes, rising and sinking with the femur), which a small-
+  // displacement contact model, linearised at the reference position,
+  // cannot follow. So the tibia's reference position carries a rigid
+  // translation (its pose): after a solve, the mean displacement of its
+  // articular surface is added to the pose and the step is solved again on
+  // the moved geometry, until that correction is below the pose tolerance.
+  // The springs act on pose plus displacement.
+  void
+  WearProblem::solve_step(const unsigned int step)
+  {
+    Timer                 step_timer;
+    const Gait::GaitState gait = waveform->at(100. * step / n_steps);
+    const Tensor<2, 3>    R    = gait_loads->femur_rotation(gait);
+    const Point<3>       &P    = parameters.gait.flexion_axis_point;
+    const RigidMotion     motion{R, P - R * P};
+    const auto           &nodes = coupling->slave_nodes();
+
+    Contact::ContactStatistics statistics;
+    unsigned int               n_pose_updates = 0, newton_iterations = 0;
+    for (unsigned int pose_iteration = 0;; ++pose_iteration)
+      {
+        std::vector<Point<3>> positions = triangulation.get_vertices();
+        for (unsigned int v = 0; v < positions.size(); ++v)
+          positions[v] = is_femur_vertex[v] ? motion(positions[v]) :
+                                              positions[v] + tibia_pose;
+        {
+          TimerOutput::Scope scope(timer, "mortar coupling");
+          coupling->reinit(positions,
+                           parameters.contact_solver.search_distance,
+                           R);
+        }
+        AssertThrow(coupling->statistics().n_covered_nodes > 0,
+                    ExcInputError("Gait step " + std::to_string(step) +
+                                  ": no part of tibia_contact faces "
+                                  "femur_contact within the search "
+                                  "distance; check the flexion axis point."));
+        if (step == 0 && pose_iteration == 0)
+          check_initial_overlap();
+
+        solver->setup(dirichlet);
+        if (state.active.size() != nodes.size())
+          state = Contact::ContactState();
+        Elasticity::BoundaryLoads loads = gait_loads->loads(gait);
+        // Stabilisation: an axial spring on the displacement relative to
+        // the pose only, so that no linear system is singular while the
+        // active set is still wrong. It vanishes as the pose converges.
+        Tensor<2, 3> axial_spring;
+        axial_spring[2][2] = parameters.gait.axial_stabilisation_spring /
+                             gait_loads->inferior_area();
+        loads.springs[Mesh::BoundaryIds::tibia_inferior] = axial_spring;
+        const auto         id        = Mesh::BoundaryIds::tibia_inferior;
+        const auto         springs   = loads.spring_fields.at(id);
+        const auto         tractions = loads.traction_fields.at(id);
+        const Tensor<1, 3> pose      = tibia_pose;
+        loads.traction_fields[id]    = [=](const Point<3> &x) {
+          return tractions(x) - springs(x) * pose;
+        };
+        statistics =
+          solver->solve(mapping,
+                        loads,
+                        parameters.contact_solver.initial_contact_distance,
+                        state);
+        newton_iterations += statistics.newton_iterations;
+
+        // The rigid part of the tibia's displacement: its mean over the
+        // inferior surface, far from the contact's local deformation.
+        const Tensor<1, 3> mean = mean_inferior_displacement();
+        if (!statistics.converged || mean.norm() <= pose_tolerance ||
+            pose_iteration + 1 >= max_pose_iterations)
+          break;
+        tibia_pose += mean;
+        ++n_pose_updates;
+      }
+
+    // The record holds the tibia's full displacement (pose plus elastic).
+    records[step] = make_step_record(*coupling, state, motion);
+    for (auto &u : records[step].displacement)
+      u += tibia_pose;
+    StepReport &report       = reports[step];
+    report.percent           = gait.percent;
+    report.flexion           = gait.flexion;
+    report.axial_force       = gait.axial_force;
+    report.ap_force          = gait.ap_force;
+    report.ie_torque         = gait.ie_torque;
+    report.active_nodes      = statistics.n_active;
+    report.newton_iterations = newton_iterations;
+    report.pose_updates      = n_pose_updates;
+    report.tibia_pose        = tibia_pose;
+    report.max_pressure      = statistics.max_pressure;
+    report.contact_force     = statistics.contact_force.norm();
+    report.contact_area      = statistics.contact_area;
+    report.converged         = statistics.converged;
+    report.wall_time         = step_timer.wall_time();
+    if (groups.n_groups == 1)
+      print_step(step);
+    if (parameters.output.vtu_interval > 0 &&
+        step % parameters.output.vtu_interval == 0)
+      output_step(step, motion);
+  }
+
+  Tensor<1, 3>
+  WearProblem::mean_inferior_displacement() const
+  {
+    const auto                      &dof_handler = elasticity.get_dof_handler();
+    FEFaceValues<3>                  fe_face_values(mapping,
+                                   dof_handler.get_fe(),
+                                   QGauss<2>(2),
+                                   update_values | update_JxW_values);
+    std::vector<Tensor<1, 3>>        values(fe_face_values.n_quadrature_points);
+    const FEValuesExtractors::Vector displacement(0);
+    Tensor<1, 3>                     integral;
+    double                           area = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const auto f : cell->face_indices())
+          if (cell->face(f)->at_boundary() &&
+              cell->face(f)->boundary_id() == Mesh::BoundaryIds::tibia_inferior)
+            {
+              fe_face_values.reinit(cell, f);
+              fe_face_values[displacement]
+                .get_function_values(elasticity.get_solution(), values);
+              for (const unsigned int q :
+                   fe_face_values.quadrature_point_indices())
+                {
+                  integral += values[q] * fe_face_values.JxW(q);
+                  area += fe_face_values.JxW(q);
+                }
+            }
+    integral = Utilities::MPI::sum(integral, groups.communicator);
+    area     = Utilities::MPI::sum(area, groups.communicator);
+    return integral / area;
+  }
+
+  // The meshes' facets may leave the bodies overlapping slightly; more than
+  // the overlap tolerance is a mesh (or flexion axis) error.
+  void
+  WearProblem::check_initial_overlap() const
+  {
+    double min_gap = std::numeric_limits<double>::max();
+    for (const auto &node : coupling->slave_nodes())
+      if (node.covered)
+        min_gap = std::min(min_gap, node.weighted_gap / node.D);
+    AssertThrow(min_gap >= -parameters.contact_solver.overlap_tolerance,
+                ExcInputError("At 0 % of the cycle the femur penetrates the "
+                              "insert by " +
+                              format_number(-min_gap) +
+                              " mm, more than the Overlap tolerance. Check "
+                              "the mesh and the flexion axis point."));
+  }
+
+  void
+  WearProblem::print_step(const unsigned int step) const
+  {
+    const StepReport  &r = reports[step];
+    std::ostringstream line;
+    line << "  step " << std::setw(3) << step << " (" << std::fixed
+         << std::setprecision(1) << std::setw(5) << r.percent << " %): flexion "
+         << std::setw(5) << r.flexion << " deg, axial " << std::setw(6)
+         << std::setprecision(0) << r.axial_force << " N, " << std::setw(4)
+         << r.active_nodes << " active, " << std::setw(2) << r.newton_iterations
+         << " Newton/" << r.pose_updates << " pose, tibia y "
+         << std::setprecision(2) << std::setw(5) << r.tibia_pose[1] << " z "
+         << std::setw(5) << r.tibia_pose[2] << " mm, max p " << std::setw(6)
+         << r.max_pressure << " MPa" << (r.converged ? "" : "  NOT CONVERGED");
+    if (!parameters.output.testing)
+      line << ", " << std::setprecision(2) << r.wall_time << " s";
+    pcout << line.str() << std::endl;
+  }
+
+  // Every group root puts the records and reports of its own steps into
+  // flat arrays, zero elsewhere; one sum over all ranks gives everybody
+  // everything. (Only group roots contribute, so nothing counts twice.)
+  void
+  WearProblem::collect_steps()
+  {
+    TimerOutput::Scope  scope(timer, "collect steps");
+    const unsigned int  n          = coupling->slave_nodes().size();
+    const unsigned int  per_record = 12 + 10 * n;
+    const unsigned int  per_report = 11;
+    std::vector<double> data(n_steps * (per_record + per_report), 0.);
+    for (unsigned int step = groups.index; step < n_steps;
+         step += groups.n_groups)
+      {
+        if (!groups.is_group_root)
+          break;
+        double           *d = &data[step * (per_record + per_report)];
+        const StepRecord &r = records[step];
+        for (unsigned int a = 0; a < 3; ++a)
+          {
+            for (unsigned int b = 0; b < 3; ++b)
+              *d++ = r.femur_motion.rotation[a][b];
+            *d++ = r.femur_motion.translation[a];
+          }
+        for (unsigned int j = 0; j < n; ++j)
+          {
+            *d++ = r.pressure[j];
+            for (unsigned int a = 0; a < 3; ++a)
+              {
+                *d++ = r.femur_point[j][a];
+                *d++ = r.displacement[j][a];
+                *d++ = r.normal[j][a];
+              }
+          }
+        const StepReport &p = reports[step];
+        for (const double value : {p.percent,
+                                   p.flexion,
+                                   p.axial_force,
+                                   p.ap_force,
+                                   p.ie_torque,
+                                   double(p.active_nodes),
+                                   double(p.newton_iterations),
+                                   p.max_pressure,
+                                   p.contact_force,
+                                   p.contact_area,
+                                   p.converged ? 1. : 0.})
+          *d++ = value;
+      }
+    const int ierr = MPI_Allreduce(MPI_IN_PLACE,
+                                   data.data(),
+                                   data.size(),
+                                   MPI_DOUBLE,
+                                   MPI_SUM,
+                                   world);
+    AssertThrowMPI(ierr);
+
+    for (unsigned int step = 0; step < n_steps; ++step)
+      {
+        const double *d = &data[step * (per_record + per_report)];
+        StepRecord    r;
+        for (unsigned int a = 0; a < 3; ++a)
+          {
+            for (unsigned int b = 0; b < 3; ++b)
+              r.femur_motion.rotation[a][b] = *d++;
+            r.femur_motion.translation[a] = *d++;
+          }
+        r.pressure.resize(n);
+        r.femur_point.resize(n);
+        r.displacement.resize(n);
+        r.normal.resize(n);
+        for (unsigned int j = 0; j < n; ++j)
+          {
+            r.pressure[j] = *d++;
+            for (unsigned int a = 0; a < 3; ++a)
+              {
+                r.femur_point[j][a]  = *d++;
+                r.displacement[j][a] = *d++;
+                r.normal[j][a]       = *d++;
+              }
+          }
+        records[step]       = r;
+        StepReport &p       = reports[step];
+        p.percent           = d[0];
+        p.flexion           = d[1];
+        p.axial_force       = d[2];
+        p.ap_force          = d[3];
+        p.ie_torque         = d[4];
+        p.active_nodes      = std::lround(d[5]);
+        p.newton_iterations = std::lround(d[6]);
+        p.max_pressure      = d[7];
+        p.contact_force     = d[8];
+        p.contact_area      = d[9];
+        p.converged         = d[10] > 0.5;
+      }
+  }
+
+  void
+  WearProblem::compute_wear()
+  {
+    // k is given in mm^3/(N m); slips are in mm.
+    wear_depth =
+      cycle_wear_depth(records, 1e-3 * parameters.wear.wear_coefficient, &slip);
+    const double volume    = worn_volume(wear_depth, *coupling);
+    const double mass      = parameters.materials.tibia.density * volume;
+    double       max_depth = 0, area = 0, worn_area = 0;
+    // The wear area counts the nodes whose depth, extrapolated linearly to
+    // the Cycles of the parameter file, exceeds the wear-area threshold.
+    for (unsigned int j = 0; j < wear_depth.size(); ++j)
+      {
+        const double D = coupling->slave_nodes()[j].D;
+        max_depth      = std::max(max_depth, wear_depth[j]);
+        area += D;
+        if (wear_depth[j] * parameters.wear.cycles >
+            parameters.wear.wear_area_threshold)
+          worn_area += D;
+      }
+    unsigned int n_iterations = 0, n_converged = 0;
+    double       max_pressure = 0, max_area = 0;
+    for (const auto &r : reports)
+      {
+        n_iterations += r.newton_iterations;
+        n_converged += r.converged;
+        max_pressure = std::max(max_pressure, r.max_pressure);
+        max_area     = std::max(max_area, r.contact_area);
+      }
+
+    pcout << "Wear of one cycle (Archard, k = "
+          << parameters.wear.wear_coefficient << " mm^3/(N m)):" << std::endl
+          << "  volume loss:       " << volume << " mm^3" << std::endl
+          << "  mass loss:         " << mass << " mg" << std::endl
+          << "  max wear depth:    " << 1e6 * max_depth << " nm" << std::endl
+          << "  peak pressure:     " << max_pressure << " MPa (over the cycle)"
+          << std::endl
+          << "  max contact area:  " << max_area << " mm^2" << std::endl
+          << "  wear area:         " << 100. * worn_area / area
+          << " % of tibia_contact (depth x " << parameters.wear.cycles
+          << " cycles > " << parameters.wear.wear_area_threshold << " mm)"
+          << std::endl
+          << "  linear extrapolation to " << parameters.wear.cycles
+          << " cycles without geometry update: "
+          << mass * parameters.wear.cycles << " mg" << std::endl
+          << "  contact solves: " << n_steps << ", converged: " << n_converged
+          << ", mean Newton iterations: " << double(n_iterations) / n_steps
+          << std::endl;
+
+    summary.set("cycles", 1);
+    summary.set("mass_loss_mg", mass);
+    summary.set("volume_loss_mm3", volume);
+    summary.set("max_wear_depth_mm", max_depth);
+    summary.set("wear_area_percent", 100. * worn_area / area);
+    summary.set("max_pressure_MPa", max_pressure);
+    summary.set("max_contact_area_mm2", max_area);
+    summary.set("contact_solves", n_steps);
+    summary.set("converged_solves", n_converged);
+    summary.set("mean_newton_iterations", double(n_iterations) / n_steps);
+    summary.set("linear_extrapolation_cycles", parameters.wear.cycles);
+    summary.set("linear_extrapolation_mass_loss_mg",
+                mass * parameters.wear.cycles);
+    summary.set("converged", n_converged == n_steps);
+  }
+
+  void
+  WearProblem::output_step(const unsigned int step, const RigidMotion &motion)
+  {
+    TimerOutput::Scope scope(timer, "output");
+    const auto        &dof_handler = elasticity.get_dof_handler();
+    Vector<double>     contact(dof_handler.n_dofs());
+    for (unsigned int j = 0; j < state.active.size(); ++j)
+      {
+        const auto &dofs = slave->nodes()[j].dofs;
+        contact(dofs[0]) = state.pressure[j];
+        contact(dofs[1]) = state.gap[j];
+        contact(dofs[2]) = state.active[j] ? 1. : 0.;
+      }
+    // The motion of every point in the global frame (the femur's elastic
+    // displacement is stored in its co-rotated frame): ParaView's "warp by
+    // vector" with it shows the femur in its flexed position.
+    Vector<double>                       motion_field(dof_handler.n_dofs());
+    std::vector<types::global_dof_index> dofs(3);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const auto v : cell->vertex_indices())
+          {
+            Tensor<1, 3> u;
+            for (unsigned int c = 0; c < 3; ++c)
+              {
+                dofs[c] = cell->vertex_dof_index(v, c);
+                u[c]    = elasticity.get_solution()[dofs[c]];
+              }
+            const Point<3>    &X = cell->vertex(v);
+            const Tensor<1, 3> d =
+              cell->material_id() == Mesh::MaterialIds::femur ?
+                Tensor<1, 3>(motion(X) + motion.rotation * u - X) :
+                u;
+            for (unsigned int c = 0; c < 3; ++c)
+              motion_field(dofs[c]) = d[c];
+          }
+    Output::write_solution(
+      elasticity,
+      mapping,
+      *step_series,
+      step,
+      step,
+      [&](DataOut<3> &data_out) {
+        data_out.add_data_vector(contact,
+                                 std::vector<std::string>{"contact_pressure",
+                                                          "gap",
+                                                          "active"},
+                                 DataOut<3>::type_dof_data);
+        data_out.add_data_vector(
+          motion_field,
+          std::vector<std::string>(3, "motion"),
+          DataOut<3>::type_dof_data,
+          std::vector<DataComponentInterpretation::DataComponentInterpretation>(
+            3,
+            DataComponentInterpretation::component_is_part_of_vector));
+      });
+  }
+
+  void
+  WearProblem::output_results()
+  {
+    TimerOutput::Scope scope(timer, "output");
+    if (Utilities::MPI::this_mpi_process(world) == 0)
+      {
+        std::ofstream csv(parameters.output.directory + "/steps.csv");
+        csv << "step,percent,flexion_deg,axial_force_N,ap_force_N,"
+               "ie_torque_Nm,active_nodes,newton_iterations,max_pressure_MPa,"
+               "contact_force_N,contact_area_mm2,converged\n";
+        for (unsigned int i = 0; i < n_steps; ++i)
+          {
+            const StepReport &r = reports[i];
+            csv << i << ',' << r.percent << ',' << r.flexion << ','
+                << r.axial_force << ',' << r.ap_force << ',' << r.ie_torque
+                << ',' << r.active_nodes << ',' << r.newton_iterations << ','
+                << r.max_pressure << ',' << r.contact_force << ','
+                << r.contact_area << ',' << r.converged << '\n';
+          }
+        std::ofstream history(parameters.output.directory +
+                              "/wear_history.csv");
+        history << "cycles,volume_mm3,mass_mg,max_depth_mm\n"
+                << "1," << worn_volume(wear_depth, *coupling) << ','
+                << parameters.materials.tibia.density *
+                     worn_volume(wear_depth, *coupling)
+                << ','
+                << *std::max_element(wear_depth.begin(), wear_depth.end())
+                << '\n';
+      }
+    if (parameters.output.vtu_interval == 0 || groups.index != 0)
+      return;
+    // The wear of the cycle on the tibia (group 0 writes it).
+    const auto    &dof_handler = elasticity.get_dof_handler();
+    Vector<double> wear(dof_handler.n_dofs());
+    for (unsigned int j = 0; j < wear_depth.size(); ++j)
+      {
+        const auto &dofs = slave->nodes()[j].dofs;
+        wear(dofs[0])    = 1e6 * wear_depth[j];
+        wear(dofs[1])    = slip[j];
+        wear(dofs[2])    = 0.;
+      }
+    Output::VtuSeries series(parameters.output.directory,
+                             "wear",
+                             groups.communicator);
+    Output::write_solution(elasticity,
+                           mapping,
+                           series,
+                           0,
+                           0.,
+                           [&](DataOut<3> &data_out) {
+                             data_out.add_data_vector(
+                               wear,
+                               std::vector<std::string>{"wear_depth_nm",
+                                                        "slip_mm",
+                                                        "unused"},
+                               DataOut<3>::type_dof_data);
+                           });
+  }
+
+  bool
+  WearProblem::run()
+  {
+    Timer wall_timer(world, /*sync_lap_times=*/true);
+    pcout << "tkr-wear: ISO 14243-1 gait cycle and Archard wear (Problem = "
+             "wear)"
+          << std::endl;
+    AssertThrow(parameters.mesh.fe_degree == 1,
+                ExcInputError(
+                  "Problem = wear needs Finite element degree = 1."));
+    Output::create_directory(parameters.output.directory, world);
+    summary.set("problem", Parameters::to_string(parameters.problem));
+    make_grid();
+    setup_system();
+
+    pcout << "Gait cycle, " << n_steps << " steps:" << std::endl;
+    for (unsigned int step = groups.index; step < n_steps;
+         step += groups.n_groups)
+      solve_step(step);
+    collect_steps();
+    if (groups.n_groups > 1)
+      for (unsigned int step = 0; step < n_steps; ++step)
+        print_step(step);
+    compute_wear();
+    output_results();
+
+    summary.set("mpi_ranks", Utilities::MPI::n_mpi_processes(world));
+    summary.set("step_groups", groups.n_groups);
+    summary.set("wall_time_s", wall_timer.wall_time());
+    summary.write(parameters.output.directory, world);
+    pcout << "Results in <" << parameters.output.directory << "/>" << std::endl;
+    bool converged = true;
+    for (const auto &r : reports)
+      converged = converged && r.converged;
+    return converged;
+  }
+} // namespace TKR::Wear
