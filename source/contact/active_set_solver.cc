@@ -167,9 +167,10 @@ namespace TKR::Contact
     std::vector<std::vector<bool>> history;
     AffineConstraints<double>      constraints;
     TrilinosWrappers::MPI::Vector  residual;
-    bool                           damped             = false;
-    unsigned int                   n_expansions       = 0;
-    double                         expansion_distance = initial_distance;
+    bool                           damped                 = false;
+    unsigned int                   n_expansions           = 0;
+    bool                           rebuild_preconditioner = true;
+    double                         expansion_distance     = initial_distance;
 
     for (unsigned int iteration = 1; iteration <= parameters.max_iterations;
          ++iteration)
@@ -177,7 +178,15 @@ namespace TKR::Contact
         Timer iteration_timer;
         make_constraints(state.active, constraints);
         elasticity.assemble_system(mapping, constraints, loads);
-        elasticity.setup_preconditioner(mapping);
+        const bool fresh_preconditioner = rebuild_preconditioner;
+        // The AMG hierarchy of the first iteration stays a good
+        // preconditioner while only some constraint rows change: it is
+        // rebuilt only when that stops being true (see below).
+        if (rebuild_preconditioner)
+          {
+            elasticity.setup_preconditioner(mapping);
+            rebuild_preconditioner = false;
+          }
         const auto linear = elasticity.solve(constraints);
         statistics.linear_iterations += linear.iterations;
         statistics.relative_residual = linear.relative_residual;
@@ -234,6 +243,12 @@ namespace TKR::Contact
                 << std::defaultfloat << std::setprecision(6);
         pcout << std::endl;
 
+        if (!linear.converged && !fresh_preconditioner)
+          {
+            // A reused hierarchy may no longer fit: retry with a new one.
+            rebuild_preconditioner = true;
+            continue;
+          }
         if (!linear.converged)
           {
             // Typically a body held only by contact whose active set cannot
@@ -251,6 +266,7 @@ namespace TKR::Contact
                       << expansion_distance << " mm of the closest"
                       << std::endl;
                 history.clear();
+                rebuild_preconditioner = true;
                 continue;
               }
             pcout << "    the linear solver did not converge" << std::endl;

@@ -290,8 +290,8 @@ namespace TKR::Elasticity
     TrilinosWrappers::PreconditionAMG::AdditionalData data;
     data.elliptic              = true;
     data.higher_order_elements = (fe.degree > 1);
-    data.smoother_sweeps       = 2;
-    data.aggregation_threshold = 0.02;
+    data.smoother_sweeps       = solver_parameters.smoother_sweeps;
+    data.aggregation_threshold = solver_parameters.aggregation_threshold;
 
     Teuchos::ParameterList              parameters;
     std::unique_ptr<Epetra_MultiVector> translations;

@@ -312,7 +312,16 @@ namespace TKR::Parameters
                         "(rigid translation) only. It keeps every linear "
                         "system regular while the active set is wrong and "
                         "vanishes as the pose iteration converges (its force "
-                        "is then below this times 1e-3 mm).");
+                        "is then below this times 0.01 mm).");
+      prm.declare_entry("Tibial tray",
+                        "rigid",
+                        Patterns::Selection("rigid|free"),
+                        "rigid: the inferior surface moves like the "
+                        "simulator's tray: it translates, rotates about z "
+                        "(IE) and ab/adducts, but does not tilt in the "
+                        "sagittal plane (needs a flat inferior surface). "
+                        "free: no constraint (the insert may tilt under the "
+                        "AP force).");
       prm.declare_entry("Step groups",
                         "0",
                         Patterns::Integer(0),
@@ -357,6 +366,7 @@ namespace TKR::Parameters
       ie_spring_stiffness = prm.get_double("IE spring stiffness");
       ml_spring_stiffness = prm.get_double("ML spring stiffness");
       step_groups         = prm.get_integer("Step groups");
+      rigid_tray          = (prm.get("Tibial tray") == "rigid");
       axial_stabilisation_spring = prm.get_double("Axial stabilisation spring");
       ap_force_sign              = prm.get_double("AP force sign");
       ie_torque_sign             = prm.get_double("IE torque sign");
@@ -531,6 +541,16 @@ namespace TKR::Parameters
                         Patterns::Bool(),
                         "Give Trilinos ML the six rigid-body modes as "
                         "near-null space (false: the three translations).");
+      prm.declare_entry("AMG aggregation threshold",
+                        "0.02",
+                        Patterns::Double(0),
+                        "Trilinos ML aggregation threshold: matrix entries "
+                        "weaker than this (relative) are dropped when "
+                        "building aggregates.");
+      prm.declare_entry("AMG smoother sweeps",
+                        "2",
+                        Patterns::Integer(1),
+                        "Degree of the Chebyshev smoother of Trilinos ML.");
     }
     prm.leave_subsection();
   }
@@ -540,9 +560,11 @@ namespace TKR::Parameters
   {
     prm.enter_subsection("Linear solver");
     {
-      tolerance        = prm.get_double("Tolerance");
-      max_iterations   = prm.get_integer("Max iterations");
-      rigid_body_modes = prm.get_bool("Rigid body modes");
+      tolerance             = prm.get_double("Tolerance");
+      max_iterations        = prm.get_integer("Max iterations");
+      rigid_body_modes      = prm.get_bool("Rigid body modes");
+      aggregation_threshold = prm.get_double("AMG aggregation threshold");
+      smoother_sweeps       = prm.get_integer("AMG smoother sweeps");
     }
     prm.leave_subsection();
   }

@@ -15,6 +15,7 @@
 
 #include <fstream>
 #include <iomanip>
+#include <map>
 
 namespace TKR::Wear
 {
@@ -101,6 +102,8 @@ namespace TKR::Wear
                                              Mesh::BoundaryIds::femur_fixation,
                                              Functions::ZeroFunction<3>(3),
                                              dirichlet);
+    if (parameters.gait.rigid_tray)
+      add_tray_constraints();
     dirichlet.close();
 
     slave = std::make_unique<Mortar::ContactSurface>(
@@ -128,9 +131,86 @@ namespace TKR::Wear
                                             groups.communicator);
   }
 
+  // The simulator holds the insert in a tray that translates (x, y, z),
+  // rotates about z (IE) and ab/adducts (about y), but does not tilt in the
+  // sagittal plane. The inferior surface (flat, z = z_A) then moves as
+  //   u = u_A + theta_z e_z x (x - x_A) + theta_y e_y x (x - x_A),
+  // with theta_z = -(u_Bx - u_Ax)/(y_B - y_A) and
+  // theta_y = -(u_Cz - u_Az)/(x_C - x_A) from three anchor nodes: A near the
+  // centroid, B far from it in y, C far from it in x. Every other node of
+  // the surface gets three constraint lines on these five DoFs.
+  void
+  WearProblem::add_tray_constraints()
+  {
+    const auto &dof_handler = elasticity.get_dof_handler();
+    std::map<unsigned int, std::array<types::global_dof_index, 3>> nodes;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      for (const auto f : cell->face_indices())
+        if (cell->face(f)->at_boundary() &&
+            cell->face(f)->boundary_id() == Mesh::BoundaryIds::tibia_inferior)
+          for (const auto v : cell->face(f)->vertex_indices())
+            {
+              std::array<types::global_dof_index, 3> dofs;
+              for (unsigned int c = 0; c < 3; ++c)
+                dofs[c] = cell->face(f)->vertex_dof_index(v, c);
+              nodes[cell->face(f)->vertex_index(v)] = dofs;
+            }
+    const auto    &vertices = triangulation.get_vertices();
+    const Point<3> centroid = gait_loads->inferior_centroid();
+    unsigned int   A        = nodes.begin()->first;
+    for (const auto &[v, dofs] : nodes)
+      if (vertices[v].distance(centroid) < vertices[A].distance(centroid))
+        A = v;
+    unsigned int B = A, C = A;
+    for (const auto &[v, dofs] : nodes)
+      {
+        if (std::abs(vertices[v][1] - vertices[A][1]) >
+            std::abs(vertices[B][1] - vertices[A][1]))
+          B = v;
+        if (std::abs(vertices[v][0] - vertices[A][0]) >
+            std::abs(vertices[C][0] - vertices[A][0]))
+          C = v;
+      }
+    const Point<3> &a    = vertices[A];
+    const double    dy_B = vertices[B][1] - a[1], dx_C = vertices[C][0] - a[0];
+    for (const auto &[v, dofs] : nodes)
+      AssertThrow(std::abs(vertices[v][2] - a[2]) <
+                    1e-6 * (std::abs(dy_B) + std::abs(dx_C)),
+                  ExcInputError("Gait/Tibial tray = rigid needs a flat "
+                                "tibia_inferior surface (z = const)."));
+    const auto &dA = nodes[A], &dB = nodes[B], &dC = nodes[C];
+    for (const auto &[v, dofs] : nodes)
+      {
+        if (v == A)
+          continue;
+        const double dx = vertices[v][0] - a[0], dy = vertices[v][1] - a[1];
+        // u_x = u_Ax + (u_Bx - u_Ax) dy / dy_B
+        if (v != B)
+          {
+            dirichlet.add_line(dofs[0]);
+            dirichlet.add_entry(dofs[0], dA[0], 1. - dy / dy_B);
+            dirichlet.add_entry(dofs[0], dB[0], dy / dy_B);
+          }
+        // u_y = u_Ay - (u_Bx - u_Ax) dx / dy_B
+        dirichlet.add_line(dofs[1]);
+        dirichlet.add_entry(dofs[1], dA[1], 1.);
+        dirichlet.add_entry(dofs[1], dA[0], dx / dy_B);
+        dirichlet.add_entry(dofs[1], dB[0], -dx / dy_B);
+        // u_z = u_Az + (u_Cz - u_Az) dx / dx_C
+        if (v != C)
+          {
+            dirichlet.add_line(dofs[2]);
+            dirichlet.add_entry(dofs[2], dA[2], 1. - dx / dx_C);
+            dirichlet.add_entry(dofs[2], dC[2], dx / dx_C);
+          }
+      }
+    pcout << "Tibial tray: rigid (no sagittal tilt), " << nodes.size()
+          << " inferior nodes tied to 5 DoFs" << std::endl;
+  }
+
   // One gait step: the femur's position for the flexion angle, the mortar
   // coupling on that geometry, the loads of the step, and the contact
-  // solve warm-started from this group's previous step.
+  // solve.
   //
   // Under load control the tibia moves by millimetres (AP and ML sliding in
   // the dishes, rising and sinking with the femur), which a small-
@@ -150,8 +230,15 @@ namespace TKR::Wear
     const RigidMotion     motion{R, P - R * P};
     const auto           &nodes = coupling->slave_nodes();
 
+    // Every step starts from the same state (no pose, the initial active
+    // set), whichever steps its group solved before: the result then does
+    // not depend on how the steps are distributed over step groups.
+    state      = Contact::ContactState();
+    tibia_pose = Tensor<1, 3>();
+
     Contact::ContactStatistics statistics;
     unsigned int               n_pose_updates = 0, newton_iterations = 0;
+    bool                       pose_converged = false;
     for (unsigned int pose_iteration = 0;; ++pose_iteration)
       {
         std::vector<Point<3>> positions = triangulation.get_vertices();
@@ -200,7 +287,8 @@ namespace TKR::Wear
         // The rigid part of the tibia's displacement: its mean over the
         // inferior surface, far from the contact's local deformation.
         const Tensor<1, 3> mean = mean_inferior_displacement();
-        if (!statistics.converged || mean.norm() <= pose_tolerance ||
+        pose_converged          = mean.norm() <= pose_tolerance;
+        if (!statistics.converged || pose_converged ||
             pose_iteration + 1 >= max_pose_iterations)
           break;
         tibia_pose += mean;
@@ -224,7 +312,8 @@ namespace TKR::Wear
     report.max_pressure      = statistics.max_pressure;
     report.contact_force     = statistics.contact_force.norm();
     report.contact_area      = statistics.contact_area;
-    report.converged         = statistics.converged;
+    report.converged         = statistics.converged && pose_converged;
+    report.pose_converged    = pose_converged;
     report.wall_time         = step_timer.wall_time();
     if (groups.n_groups == 1)
       print_step(step);
@@ -296,7 +385,10 @@ namespace TKR::Wear
          << " Newton/" << r.pose_updates << " pose, tibia y "
          << std::setprecision(2) << std::setw(5) << r.tibia_pose[1] << " z "
          << std::setw(5) << r.tibia_pose[2] << " mm, max p " << std::setw(6)
-         << r.max_pressure << " MPa" << (r.converged ? "" : "  NOT CONVERGED");
+         << r.max_pressure << " MPa"
+         << (r.converged      ? "" :
+             r.pose_converged ? "  NOT CONVERGED" :
+                                "  POSE NOT CONVERGED");
     if (!parameters.output.testing)
       line << ", " << std::setprecision(2) << r.wall_time << " s";
     pcout << line.str() << std::endl;

@@ -62,7 +62,7 @@ main(int argc, char **argv)
   Parameters::Materials materials;
   materials.femur = {220000., 0.31, 8.3};
   materials.tibia = {1100., 0.42, 0.935};
-  const Parameters::LinearSolver linear{1e-10, 1000, true};
+  const Parameters::LinearSolver linear{1e-10, 1000, true, 0.02, 2};
   const Parameters::ContactSolver
     contact{Parameters::ContactAlgorithm::active_set, 1e-8, 20, 1., 1e-8, 0.01};
 

@@ -93,7 +93,7 @@ main(int argc, char **argv)
   TKR::Parameters::Materials materials;
   materials.femur = {220000., 0.31, 8.3};
   materials.tibia = {1100., 0.42, 0.935};
-  TKR::Parameters::LinearSolver solver{1e-12, 500, true};
+  TKR::Parameters::LinearSolver solver{1e-12, 500, true, 0.02, 2};
 
   TimerOutput                       timer(comm,
                     std::cout,

@@ -74,6 +74,13 @@ namespace TKR::Gait
     dealii::Point<3>
     femur_position(const dealii::Point<3> &X, const GaitState &state) const;
 
+    /** Centroid of the inferior surface. */
+    const dealii::Point<3> &
+    inferior_centroid() const
+    {
+      return surface.centroid;
+    }
+
     /** Area of the inferior surface (mm^2). */
     double
     inferior_area() const

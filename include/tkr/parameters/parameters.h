@@ -152,6 +152,8 @@ namespace TKR::Parameters
      * numerical stabilisation that vanishes as the pose iteration converges.
      */
     double axial_stabilisation_spring;
+    /** The insert sits in a rigid tray that cannot tilt sagittally. */
+    bool rigid_tray;
     /** MPI groups that share the steps of a cycle (0: one per rank). */
     unsigned int step_groups;
 
@@ -214,6 +216,9 @@ namespace TKR::Parameters
     unsigned int max_iterations;
     /** Use the six rigid-body modes as AMG near-null space. */
     bool rigid_body_modes;
+    /** ML aggregation threshold and smoother sweeps (Chebyshev degree). */
+    double       aggregation_threshold;
+    unsigned int smoother_sweeps;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);

@@ -37,7 +37,9 @@ namespace TKR::Wear
     dealii::Tensor<1, 3> tibia_pose;
     double               max_pressure = 0, contact_force = 0, contact_area = 0;
     bool                 converged = false;
-    double               wall_time = 0;
+    /** The pose iteration reached its tolerance. */
+    bool   pose_converged = false;
+    double wall_time      = 0;
   };
 
   /**
@@ -109,6 +111,8 @@ namespace TKR::Wear
     print_step(const unsigned int step) const;
     void
     check_initial_overlap() const;
+    void
+    add_tray_constraints();
     /** Mean displacement of the tibia's inferior surface (mm). */
     dealii::Tensor<1, 3>
     mean_inferior_displacement() const;
@@ -134,8 +138,8 @@ namespace TKR::Wear
     /** The tibia's rigid translation, carried from step to step (mm). */
     dealii::Tensor<1, 3> tibia_pose;
     /** Pose updates stop when the correction is below this (mm). */
-    const double                       pose_tolerance      = 1e-3;
-    const unsigned int                 max_pose_iterations = 20;
+    const double                       pose_tolerance      = 1e-2;
+    const unsigned int                 max_pose_iterations = 40;
     Contact::ContactState              state;
     std::vector<StepRecord>            records;
     std::vector<StepReport>            reports;
