@@ -449,10 +449,11 @@ namespace TKR::Contact
     if (parameters.output.vtu_interval > 0)
       output_results();
 
-    summary.set("mpi_ranks", Utilities::MPI::n_mpi_processes(mpi_communicator));
-    summary.set("wall_time_s", wall_timer.wall_time());
-    summary.write(parameters.output.directory, mpi_communicator);
-    pcout << "Results in <" << parameters.output.directory << "/>" << std::endl;
+    Output::finish_run(summary,
+                       parameters.output.directory,
+                       mpi_communicator,
+                       wall_timer.wall_time(),
+                       pcout);
     return statistics.converged;
   }
 } // namespace TKR::Contact

@@ -142,10 +142,11 @@ namespace TKR::Elasticity
     summary.set("cg_iterations", statistics.iterations);
     summary.set("max_displacement_femur_mm", max_femur);
     summary.set("max_displacement_tibia_mm", max_tibia);
-    summary.set("mpi_ranks", Utilities::MPI::n_mpi_processes(mpi_communicator));
-    summary.set("wall_time_s", wall_timer.wall_time());
-    summary.write(parameters.output.directory, mpi_communicator);
-    pcout << "Results in <" << parameters.output.directory << "/>" << std::endl;
+    Output::finish_run(summary,
+                       parameters.output.directory,
+                       mpi_communicator,
+                       wall_timer.wall_time(),
+                       pcout);
     return statistics.converged;
   }
 } // namespace TKR::Elasticity

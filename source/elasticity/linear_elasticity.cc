@@ -195,6 +195,42 @@ namespace TKR::Elasticity
         }
   }
 
+  void
+  LinearElasticity::for_each_cell_system(
+    const Mapping<3>    &mapping,
+    const BoundaryLoads &loads,
+    const std::function<void(const DoFHandler<3>::active_cell_iterator &,
+                             const FullMatrix<double> &,
+                             Vector<double> &,
+                             const std::vector<types::global_dof_index> &)>
+      &use) const
+  {
+    FEValues<3>        fe_values(mapping,
+                          fe,
+                          QGauss<3>(fe.degree + 1),
+                          update_gradients | update_JxW_values);
+    FEFaceValues<3>    fe_face_values(mapping,
+                                   fe,
+                                   QGauss<2>(fe.degree + 1),
+                                   update_values | update_quadrature_points |
+                                     update_JxW_values);
+    FullMatrix<double> cell_matrix(fe.n_dofs_per_cell(), fe.n_dofs_per_cell());
+    Vector<double>     cell_rhs(fe.n_dofs_per_cell());
+    std::vector<types::global_dof_index> dof_indices(fe.n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          local_assemble(cell,
+                         fe_values,
+                         fe_face_values,
+                         loads,
+                         cell_matrix,
+                         cell_rhs);
+          cell->get_dof_indices(dof_indices);
+          use(cell, cell_matrix, cell_rhs, dof_indices);
+        }
+  }
+
   // Constraints (Dirichlet data, the contact conditions) are eliminated
   // while copying local to global, which keeps the matrix symmetric and
   // positive definite for CG.
@@ -207,34 +243,18 @@ namespace TKR::Elasticity
     TimerOutput::Scope scope(timer, "assemble system");
     system_matrix = 0;
     system_rhs    = 0;
-    FEValues<3>        fe_values(mapping,
-                          fe,
-                          QGauss<3>(fe.degree + 1),
-                          update_gradients | update_JxW_values);
-    FEFaceValues<3>    fe_face_values(mapping,
-                                   fe,
-                                   QGauss<2>(fe.degree + 1),
-                                   update_values | update_quadrature_points |
-                                     update_JxW_values);
-    FullMatrix<double> cell_matrix(fe.n_dofs_per_cell(), fe.n_dofs_per_cell());
-    Vector<double>     cell_rhs(fe.n_dofs_per_cell());
-    std::vector<types::global_dof_index> dof_indices(fe.n_dofs_per_cell());
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          local_assemble(cell,
-                         fe_values,
-                         fe_face_values,
+    for_each_cell_system(mapping,
                          loads,
-                         cell_matrix,
-                         cell_rhs);
-          cell->get_dof_indices(dof_indices);
-          constraints.distribute_local_to_global(cell_matrix,
-                                                 cell_rhs,
-                                                 dof_indices,
-                                                 system_matrix,
-                                                 system_rhs);
-        }
+                         [&](const auto &,
+                             const auto &cell_matrix,
+                             auto       &cell_rhs,
+                             const auto &dofs) {
+                           constraints.distribute_local_to_global(cell_matrix,
+                                                                  cell_rhs,
+                                                                  dofs,
+                                                                  system_matrix,
+                                                                  system_rhs);
+                         });
     system_matrix.compress(VectorOperation::add);
     system_rhs.compress(VectorOperation::add);
   }
@@ -247,35 +267,18 @@ namespace TKR::Elasticity
   {
     TimerOutput::Scope scope(timer, "residual");
     residual.reinit(owned_dofs, mpi_communicator);
-    FEValues<3>        fe_values(mapping,
-                          fe,
-                          QGauss<3>(fe.degree + 1),
-                          update_gradients | update_JxW_values);
-    FEFaceValues<3>    fe_face_values(mapping,
-                                   fe,
-                                   QGauss<2>(fe.degree + 1),
-                                   update_values | update_quadrature_points |
-                                     update_JxW_values);
-    FullMatrix<double> cell_matrix(fe.n_dofs_per_cell(), fe.n_dofs_per_cell());
-    Vector<double>     cell_rhs(fe.n_dofs_per_cell());
-    Vector<double>     cell_u(fe.n_dofs_per_cell());
-    Vector<double>     cell_Ku(fe.n_dofs_per_cell());
-    std::vector<types::global_dof_index> dof_indices(fe.n_dofs_per_cell());
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          local_assemble(cell,
-                         fe_values,
-                         fe_face_values,
+    Vector<double> cell_u(fe.n_dofs_per_cell()), cell_Ku(fe.n_dofs_per_cell());
+    for_each_cell_system(mapping,
                          loads,
-                         cell_matrix,
-                         cell_rhs);
-          cell->get_dof_values(solution, cell_u);
-          cell_matrix.vmult(cell_Ku, cell_u);
-          cell_rhs -= cell_Ku;
-          cell->get_dof_indices(dof_indices);
-          residual.add(dof_indices, cell_rhs);
-        }
+                         [&](const auto &cell,
+                             const auto &cell_matrix,
+                             auto       &cell_rhs,
+                             const auto &dofs) {
+                           cell->get_dof_values(solution, cell_u);
+                           cell_matrix.vmult(cell_Ku, cell_u);
+                           cell_rhs -= cell_Ku;
+                           residual.add(dofs, cell_rhs);
+                         });
     residual.compress(VectorOperation::add);
   }
 

@@ -37,6 +37,19 @@ namespace TKR::Output
   }
 
   void
+  finish_run(Summary                  &summary,
+             const std::string        &directory,
+             const MPI_Comm            mpi_communicator,
+             const double              wall_time,
+             const ConditionalOStream &out)
+  {
+    summary.set("mpi_ranks", Utilities::MPI::n_mpi_processes(mpi_communicator));
+    summary.set("wall_time_s", wall_time);
+    summary.write(directory, mpi_communicator);
+    out << "Results in <" << directory << "/>" << std::endl;
+  }
+
+  void
   write_solution(const Elasticity::LinearElasticity      &elasticity,
                  const Mapping<3>                        &mapping,
                  VtuSeries                               &series,

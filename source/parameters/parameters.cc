@@ -100,6 +100,19 @@ namespace TKR::Parameters
     prm.leave_subsection();
   }
 
+  Mesh
+  Mesh::with_default_groups(const std::string &file)
+  {
+    return Mesh{file,
+                1,
+                "femur",
+                "tibia",
+                "femur_contact",
+                "femur_fixation",
+                "tibia_contact",
+                "tibia_inferior"};
+  }
+
   void
   Material::declare_parameters(ParameterHandler &prm,
                                const double      youngs_modulus,

@@ -239,6 +239,8 @@ namespace TKR::Wear
     Contact::ContactStatistics statistics;
     unsigned int               n_pose_updates = 0, newton_iterations = 0;
     bool                       pose_converged = false;
+    double                     relaxation     = 1.;
+    Tensor<1, 3>               previous_correction;
     for (unsigned int pose_iteration = 0;; ++pose_iteration)
       {
         std::vector<Point<3>> positions = triangulation.get_vertices();
@@ -291,7 +293,12 @@ namespace TKR::Wear
         if (!statistics.converged || pose_converged ||
             pose_iteration + 1 >= max_pose_iterations)
           break;
-        tibia_pose += mean;
+        // A correction that reverses the previous one means the fixed-point
+        // iteration overshoots: relax it.
+        if (mean * previous_correction < 0)
+          relaxation *= 0.5;
+        previous_correction = relaxation * mean;
+        tibia_pose += previous_correction;
         ++n_pose_updates;
       }
 
@@ -698,11 +705,12 @@ namespace TKR::Wear
     compute_wear();
     output_results();
 
-    summary.set("mpi_ranks", Utilities::MPI::n_mpi_processes(world));
     summary.set("step_groups", groups.n_groups);
-    summary.set("wall_time_s", wall_timer.wall_time());
-    summary.write(parameters.output.directory, world);
-    pcout << "Results in <" << parameters.output.directory << "/>" << std::endl;
+    Output::finish_run(summary,
+                       parameters.output.directory,
+                       world,
+                       wall_timer.wall_time(),
+                       pcout);
     bool converged = true;
     for (const auto &r : reports)
       converged = converged && r.converged;

@@ -39,15 +39,8 @@ main(int argc, char **argv)
     Triangulation<3>::none,
     false,
     parallel::shared::Triangulation<3>::partition_metis);
-  Parameters::Mesh mesh{std::string(SOURCE_DIR) +
-                          "/../../meshes/verification/patch-fine.msh",
-                        1,
-                        "femur",
-                        "tibia",
-                        "femur_contact",
-                        "femur_fixation",
-                        "tibia_contact",
-                        "tibia_inferior"};
+  Parameters::Mesh mesh = Parameters::Mesh::with_default_groups(
+    std::string(SOURCE_DIR) + "/../../meshes/verification/patch-fine.msh");
   Mesh::read_mesh(mesh, triangulation);
   for (const auto &cell : triangulation.active_cell_iterators())
     for (const auto &face : cell->face_iterators())

@@ -25,15 +25,8 @@ main()
 {
   using namespace TKR;
   initlog();
-  Parameters::Mesh mesh{std::string(SOURCE_DIR) +
-                          "/../../meshes/tkr/tkr-a-coarse.msh",
-                        1,
-                        "femur",
-                        "tibia",
-                        "femur_contact",
-                        "femur_fixation",
-                        "tibia_contact",
-                        "tibia_inferior"};
+  Parameters::Mesh mesh = Parameters::Mesh::with_default_groups(
+    std::string(SOURCE_DIR) + "/../../meshes/tkr/tkr-a-coarse.msh");
   Triangulation<3> triangulation;
   Mesh::read_mesh(mesh, triangulation);
   const auto surface = Gait::measure_inferior_surface(triangulation);

@@ -49,15 +49,8 @@ main(int argc, char **argv)
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   initlog();
 
-  TKR::Parameters::Mesh parameters{
-    source_dir + "/../../meshes/verification/patch-coarse.msh",
-    1,
-    "femur",
-    "tibia",
-    "femur_contact",
-    "femur_fixation",
-    "tibia_contact",
-    "tibia_inferior"};
+  TKR::Parameters::Mesh parameters = TKR::Parameters::Mesh::with_default_groups(
+    source_dir + "/../../meshes/verification/patch-coarse.msh");
   for (const auto &group : TKR::Mesh::read_physical_names(parameters.file))
     deallog << "group " << group.dim << ' ' << group.tag << ' ' << group.name
             << std::endl;

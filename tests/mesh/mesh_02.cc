@@ -46,15 +46,9 @@ main()
       std::getline(in, field, ',');
       hexahedra = std::stoul(field);
 
-      TKR::Parameters::Mesh parameters{meshes + file,
-                                       1,
-                                       "femur",
-                                       "tibia",
-                                       "femur_contact",
-                                       "femur_fixation",
-                                       "tibia_contact",
-                                       "tibia_inferior"};
-      Triangulation<3>      triangulation;
+      TKR::Parameters::Mesh parameters =
+        TKR::Parameters::Mesh::with_default_groups(meshes + file);
+      Triangulation<3> triangulation;
       TKR::Mesh::read_mesh(parameters, triangulation);
       const auto s = TKR::Mesh::compute_statistics(triangulation);
 

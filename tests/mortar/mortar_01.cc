@@ -95,15 +95,8 @@ main(int argc, char **argv)
 
   {
     deallog.push("flat");
-    Parameters::Mesh parameters{std::string(SOURCE_DIR) +
-                                  "/../../meshes/verification/patch-coarse.msh",
-                                1,
-                                "femur",
-                                "tibia",
-                                "femur_contact",
-                                "femur_fixation",
-                                "tibia_contact",
-                                "tibia_inferior"};
+    Parameters::Mesh parameters = Parameters::Mesh::with_default_groups(
+      std::string(SOURCE_DIR) + "/../../meshes/verification/patch-coarse.msh");
     Triangulation<3> triangulation;
     Mesh::read_mesh(parameters, triangulation);
     DoFHandler<3> dof_handler(triangulation);

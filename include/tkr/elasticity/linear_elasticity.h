@@ -209,6 +209,20 @@ namespace TKR::Elasticity
     }
 
   private:
+    /**
+     * For every locally owned cell: its matrix and load vector (no
+     * constraints applied), handed to @p use with the cell's DoF indices.
+     */
+    void
+    for_each_cell_system(
+      const dealii::Mapping<3> &mapping,
+      const BoundaryLoads      &loads,
+      const std::function<
+        void(const dealii::DoFHandler<3>::active_cell_iterator &,
+             const dealii::FullMatrix<double> &,
+             dealii::Vector<double> &,
+             const std::vector<dealii::types::global_dof_index> &)> &use) const;
+
     /** Cell matrix and load vector (no constraints applied). */
     void
     local_assemble(const dealii::DoFHandler<3>::active_cell_iterator &cell,

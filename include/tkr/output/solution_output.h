@@ -34,6 +34,18 @@ namespace TKR::Output
               const bool                        testing);
 
   /**
+   * End of a run: record the number of MPI ranks and the wall time in
+   * @p summary, write `directory/summary.json` and say where the results
+   * are.
+   */
+  void
+  finish_run(Summary                          &summary,
+             const std::string                &directory,
+             const MPI_Comm                    mpi_communicator,
+             const double                      wall_time,
+             const dealii::ConditionalOStream &out);
+
+  /**
    * Write the displacement, the stress tensor, the von Mises stress, the
    * material id and the MPI partition of @p elasticity as output @p index
    * of @p series; @p add_fields may attach further data vectors (on the

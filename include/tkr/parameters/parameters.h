@@ -39,6 +39,10 @@ namespace TKR::Parameters
     declare_parameters(dealii::ParameterHandler &prm);
     void
     parse_parameters(dealii::ParameterHandler &prm);
+
+    /** Q1 on @p file with the group names of DESIGN.md section 3. */
+    static Mesh
+    with_default_groups(const std::string &file);
   };
 
   /** One linear-elastic, isotropic material. */
