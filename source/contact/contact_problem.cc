@@ -397,17 +397,14 @@ namespace TKR::Contact
   ContactProblem::output_results()
   {
     TimerOutput::Scope scope(timer, "output");
-    // Contact pressure, gap and active flag at the slave nodes, stored in
-    // the three components of a displacement-sized vector (zero elsewhere).
-    const auto    &dof_handler = elasticity.get_dof_handler();
-    Vector<double> contact(dof_handler.n_dofs());
-    for (unsigned int j = 0; j < state.active.size(); ++j)
-      {
-        const auto &dofs = slave->nodes()[j].dofs;
-        contact(dofs[0]) = state.pressure[j];
-        contact(dofs[1]) = state.gap[j];
-        contact(dofs[2]) = state.active[j] ? 1. : 0.;
-      }
+    // Contact pressure, gap and active flag at the slave nodes.
+    const Vector<double> contact =
+      Output::surface_fields(*slave,
+                             {state.pressure,
+                              state.gap,
+                              std::vector<double>(state.active.begin(),
+                                                  state.active.end())},
+                             elasticity.get_dof_handler().n_dofs());
     Output::VtuSeries series(parameters.output.directory,
                              "solution",
                              mpi_communicator);

@@ -36,6 +36,18 @@ namespace TKR::Output
     summary.set("tibia_volume_mm3", statistics.tibia_volume);
   }
 
+  Vector<double>
+  surface_fields(const Mortar::ContactSurface             &surface,
+                 const std::array<std::vector<double>, 3> &fields,
+                 const unsigned int                        n_dofs)
+  {
+    Vector<double> vector(n_dofs);
+    for (unsigned int c = 0; c < 3; ++c)
+      for (unsigned int j = 0; j < fields[c].size(); ++j)
+        vector(surface.nodes()[j].dofs[c]) = fields[c][j];
+    return vector;
+  }
+
   void
   finish_run(Summary                  &summary,
              const std::string        &directory,

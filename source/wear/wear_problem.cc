@@ -565,16 +565,15 @@ namespace TKR::Wear
   void
   WearProblem::output_step(const unsigned int step, const RigidMotion &motion)
   {
-    TimerOutput::Scope scope(timer, "output");
-    const auto        &dof_handler = elasticity.get_dof_handler();
-    Vector<double>     contact(dof_handler.n_dofs());
-    for (unsigned int j = 0; j < state.active.size(); ++j)
-      {
-        const auto &dofs = slave->nodes()[j].dofs;
-        contact(dofs[0]) = state.pressure[j];
-        contact(dofs[1]) = state.gap[j];
-        contact(dofs[2]) = state.active[j] ? 1. : 0.;
-      }
+    TimerOutput::Scope   scope(timer, "output");
+    const auto          &dof_handler = elasticity.get_dof_handler();
+    const Vector<double> contact =
+      Output::surface_fields(*slave,
+                             {state.pressure,
+                              state.gap,
+                              std::vector<double>(state.active.begin(),
+                                                  state.active.end())},
+                             dof_handler.n_dofs());
     // The motion of every point in the global frame (the femur's elastic
     // displacement is stored in its co-rotated frame): ParaView's "warp by
     // vector" with it shows the femur in its flexed position.
@@ -652,15 +651,13 @@ namespace TKR::Wear
     if (parameters.output.vtu_interval == 0 || groups.index != 0)
       return;
     // The wear of the cycle on the tibia (group 0 writes it).
-    const auto    &dof_handler = elasticity.get_dof_handler();
-    Vector<double> wear(dof_handler.n_dofs());
+    std::vector<double> depth_nm(wear_depth.size());
     for (unsigned int j = 0; j < wear_depth.size(); ++j)
-      {
-        const auto &dofs = slave->nodes()[j].dofs;
-        wear(dofs[0])    = 1e6 * wear_depth[j];
-        wear(dofs[1])    = slip[j];
-        wear(dofs[2])    = 0.;
-      }
+      depth_nm[j] = 1e6 * wear_depth[j];
+    const Vector<double> wear =
+      Output::surface_fields(*slave,
+                             {depth_nm, slip, {}},
+                             elasticity.get_dof_handler().n_dofs());
     Output::VtuSeries series(parameters.output.directory,
                              "wear",
                              groups.communicator);

@@ -12,6 +12,7 @@
 
 #include <tkr/elasticity/linear_elasticity.h>
 #include <tkr/mesh/mesh.h>
+#include <tkr/mortar/contact_surface.h>
 #include <tkr/output/summary.h>
 #include <tkr/output/vtu_output.h>
 
@@ -32,6 +33,17 @@ namespace TKR::Output
               const Mesh::MeshStatistics       &statistics,
               const std::string                &filename,
               const bool                        testing);
+
+  /**
+   * Up to three scalar fields given per node of a contact @p surface (e.g.
+   * pressure, gap, active flag), stored in the three displacement
+   * components of a vector over all @p n_dofs DoFs (zero elsewhere), so that
+   * DataOut writes them on the same mesh. Empty fields stay zero.
+   */
+  dealii::Vector<double>
+  surface_fields(const Mortar::ContactSurface             &surface,
+                 const std::array<std::vector<double>, 3> &fields,
+                 const unsigned int                        n_dofs);
 
   /**
    * End of a run: record the number of MPI ranks and the wall time in
