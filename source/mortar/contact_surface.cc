@@ -80,10 +80,4 @@ namespace TKR::Mortar
              1. :
              -1.;
   }
-
-  std::vector<Point<3>>
-  vertex_positions(const DoFHandler<3> &dof_handler)
-  {
-    return dof_handler.get_triangulation().get_vertices();
-  }
 } // namespace TKR::Mortar

@@ -19,13 +19,11 @@ namespace TKR::Mortar
 
   namespace
   {
-    /** Bounding box of a face, enlarged by @p margin in every direction. */
+    /** Bounding box of a face. */
     BoundingBox<3>
-    face_box(const std::array<Point<3>, 4> &x, const double margin)
+    face_box(const std::array<Point<3>, 4> &x)
     {
-      BoundingBox<3> box(std::vector<Point<3>>(x.begin(), x.end()));
-      box.extend(margin);
-      return box;
+      return BoundingBox<3>(std::vector<Point<3>>(x.begin(), x.end()));
     }
 
     /**
@@ -88,7 +86,7 @@ namespace TKR::Mortar
         master_quads[m].vertices = master.face_vertices(m, positions);
         const Tensor<1, 3> n     = master_quads[m].area_normal(centre);
         master_normals[m] = master.orientation(m, positions) * n / n.norm();
-        boxes.emplace_back(face_box(master_quads[m].vertices, 0.), m);
+        boxes.emplace_back(face_box(master_quads[m].vertices), m);
       }
     const auto tree = pack_rtree(boxes);
 
@@ -139,7 +137,7 @@ namespace TKR::Mortar
         // number of candidates per face independent of the mesh size.
         candidates.clear();
         {
-          BoundingBox<3> box        = face_box(slave_quad.vertices, 0.);
+          BoundingBox<3> box        = face_box(slave_quad.vertices);
           auto           corners    = box.get_boundary_points();
           const double   tangential = 0.05 * box.side_length(0) +
                                     0.05 * box.side_length(1) +

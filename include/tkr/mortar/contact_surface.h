@@ -80,14 +80,6 @@ namespace TKR::Mortar
     std::vector<Face>                      face_list;
     std::vector<std::vector<unsigned int>> faces_of_node;
   };
-
-  /**
-   * The reference position of every triangulation vertex, the starting
-   * point of the geometry handed to ContactSurface and MortarCoupling
-   * (rotations and wear displacements are applied to it by the callers).
-   */
-  std::vector<dealii::Point<3>>
-  vertex_positions(const dealii::DoFHandler<3> &dof_handler);
 } // namespace TKR::Mortar
 
 #endif
