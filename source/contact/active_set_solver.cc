@@ -19,6 +19,112 @@ namespace TKR::Contact
     return std::count(active.begin(), active.end(), true);
   }
 
+  std::vector<bool>
+  nodes_near_closest(const Mortar::MortarCoupling &coupling,
+                     const double                  distance)
+  {
+    const auto &nodes   = coupling.slave_nodes();
+    double      min_gap = std::numeric_limits<double>::max();
+    for (const auto &node : nodes)
+      if (node.covered)
+        min_gap = std::min(min_gap, node.weighted_gap / node.D);
+    const double      threshold = std::max(min_gap, 0.) + distance;
+    std::vector<bool> near(nodes.size(), false);
+    for (unsigned int j = 0; j < nodes.size(); ++j)
+      near[j] =
+        nodes[j].covered && nodes[j].weighted_gap <= threshold * nodes[j].D;
+    return near;
+  }
+
+  ActiveSetUpdate::ActiveSetUpdate(const ConditionalOStream &pcout,
+                                   const double slave_youngs_modulus)
+    : pcout(pcout)
+    , slave_youngs_modulus(slave_youngs_modulus)
+  {}
+
+  unsigned int
+  ActiveSetUpdate::next_set(const Mortar::MortarCoupling &coupling,
+                            const ContactState           &state,
+                            std::vector<bool>            &next,
+                            std::vector<double>          &violation) const
+  {
+    const auto        &nodes   = coupling.slave_nodes();
+    const unsigned int n_slave = nodes.size();
+    next.assign(n_slave, false);
+    violation.assign(n_slave, 0.);
+    unsigned int n_changed = 0;
+    for (unsigned int j = 0; j < n_slave; ++j)
+      if (nodes[j].covered)
+        {
+          const double lambda = state.pressure[j], gap = state.gap[j];
+          const double c = slave_youngs_modulus / std::sqrt(nodes[j].D);
+          next[j]        = (lambda - c * gap > 0);
+          // How far the node is from satisfying its present status.
+          violation[j] =
+            state.active[j] ? std::max(0., -lambda) : std::max(0., -c * gap);
+        }
+    for (unsigned int j = 0; j < n_slave; ++j)
+      n_changed += (next[j] != state.active[j]);
+    return n_changed;
+  }
+
+  unsigned int
+  ActiveSetUpdate::count_changes(const Mortar::MortarCoupling &coupling,
+                                 const ContactState           &state) const
+  {
+    std::vector<bool>   next;
+    std::vector<double> violation;
+    return next_set(coupling, state, next, violation);
+  }
+
+  unsigned int
+  ActiveSetUpdate::update(const Mortar::MortarCoupling &coupling,
+                          ContactState                 &state)
+  {
+    std::vector<bool>   next;
+    std::vector<double> violation;
+    const unsigned int  n_changed = next_set(coupling, state, next, violation);
+    if (n_changed == 0)
+      return 0;
+
+    history.push_back(state.active);
+    if (std::find(history.begin(), history.end(), next) != history.end())
+      {
+        if (!damped)
+          pcout << "    the active set cycles: damped updates from now on"
+                << std::endl;
+        damped = true;
+      }
+    if (damped)
+      {
+        const unsigned int worst =
+          std::max_element(violation.begin(), violation.end()) -
+          violation.begin();
+        next        = state.active;
+        next[worst] = !next[worst];
+      }
+    state.active = next;
+    return n_changed;
+  }
+
+  void
+  add_contact_results(const Mortar::MortarCoupling &coupling,
+                      const ContactState           &state,
+                      ContactStatistics            &statistics)
+  {
+    const auto &nodes = coupling.slave_nodes();
+    for (unsigned int j = 0; j < nodes.size(); ++j)
+      if (state.active[j])
+        {
+          ++statistics.n_active;
+          statistics.contact_area += nodes[j].D;
+          statistics.contact_force -=
+            state.pressure[j] * nodes[j].D * nodes[j].normal;
+          statistics.max_pressure =
+            std::max(statistics.max_pressure, state.pressure[j]);
+        }
+  }
+
   ActiveSetSolver::ActiveSetSolver(Elasticity::LinearElasticity    &elasticity,
                                    const Mortar::MortarCoupling    &coupling,
                                    const Parameters::ContactSolver &parameters,
@@ -137,23 +243,8 @@ namespace TKR::Contact
     const unsigned int n_slave      = nodes.size();
     const unsigned int master_start = 3 * n_slave;
 
-    // Nodes within a distance of the closest covered node: for a tibia held
-    // only by contact, that closes the smallest gap first.
-    const auto near_closest = [&](const double distance) {
-      double min_gap = std::numeric_limits<double>::max();
-      for (const auto &node : nodes)
-        if (node.covered)
-          min_gap = std::min(min_gap, node.weighted_gap / node.D);
-      const double      threshold = std::max(min_gap, 0.) + distance;
-      std::vector<bool> near(n_slave, false);
-      for (unsigned int j = 0; j < n_slave; ++j)
-        near[j] =
-          nodes[j].covered && nodes[j].weighted_gap <= threshold * nodes[j].D;
-      return near;
-    };
-    if (state.active.size() != n_slave ||
-        std::count(state.active.begin(), state.active.end(), true) == 0)
-      state.active = near_closest(initial_distance);
+    if (state.active.size() != n_slave || state.n_active() == 0)
+      state.active = nodes_near_closest(coupling, initial_distance);
     else
       // A warm start from another geometry: only covered nodes may be
       // active (the sparsity pattern holds only their couplings).
@@ -163,14 +254,13 @@ namespace TKR::Contact
     state.gap.assign(n_slave, std::numeric_limits<double>::quiet_NaN());
     state.displacement.assign(n_slave, Tensor<1, 3>());
 
-    ContactStatistics              statistics;
-    std::vector<std::vector<bool>> history;
-    AffineConstraints<double>      constraints;
-    TrilinosWrappers::MPI::Vector  residual;
-    bool                           damped                 = false;
-    unsigned int                   n_expansions           = 0;
-    bool                           rebuild_preconditioner = true;
-    double                         expansion_distance     = initial_distance;
+    ContactStatistics         statistics;
+    ActiveSetUpdate           active_set_update(pcout, slave_youngs_modulus);
+    AffineConstraints<double> constraints;
+    TrilinosWrappers::MPI::Vector residual;
+    unsigned int                  n_expansions           = 0;
+    bool                          rebuild_preconditioner = true;
+    double                        expansion_distance     = initial_distance;
 
     for (unsigned int iteration = 1; iteration <= parameters.max_iterations;
          ++iteration)
@@ -196,44 +286,37 @@ namespace TKR::Contact
         const std::vector<double> r = gather(residual);
         const std::vector<double> u = gather(elasticity.get_solution());
 
-        // Multipliers, gaps after deformation and the new active set.
-        std::vector<bool>   next(n_slave, false);
-        std::vector<double> violation(n_slave, 0.);
+        // Multipliers lambda_j = r_j . n_j / D_jj and gaps after
+        // deformation.
         for (unsigned int j = 0; j < n_slave; ++j)
           {
-            const auto &node = nodes[j];
-            if (!node.covered)
-              continue;
+            const auto  &node = nodes[j];
             Tensor<1, 3> r_j, u_j, u_master;
             for (unsigned int e = 0; e < 3; ++e)
               {
                 r_j[e] = r[3 * j + e];
                 u_j[e] = u[3 * j + e];
               }
+            // Every slave node's displacement (the wear's slip needs it
+            // also where the node is out of reach of the master).
+            state.displacement[j] = u_j;
+            if (!node.covered)
+              continue;
             for (const auto &[k, M] : node.M)
               for (unsigned int e = 0; e < 3; ++e)
                 u_master[e] += M * u[master_start + 3 * k + e];
-            const double lambda = r_j * node.normal / node.D;
-            const double gap = (node.weighted_gap - node.D * node.normal * u_j +
-                                node.master_normal * u_master) /
-                               node.D;
-            state.displacement[j] = u_j;
-            const double c        = slave_youngs_modulus / std::sqrt(node.D);
-            state.pressure[j]     = lambda;
-            state.gap[j]          = gap;
-            next[j]               = (lambda - c * gap > 0);
-            // How far the node is from satisfying its present status.
-            violation[j] =
-              state.active[j] ? std::max(0., -lambda) : std::max(0., -c * gap);
+            state.pressure[j] = r_j * node.normal / node.D;
+            state.gap[j] = (node.weighted_gap - node.D * node.normal * u_j +
+                            node.master_normal * u_master) /
+                           node.D;
           }
 
-        unsigned int n_changed = 0;
-        for (unsigned int j = 0; j < n_slave; ++j)
-          n_changed += (next[j] != state.active[j]);
-
+        const unsigned int n_active = state.n_active();
+        const unsigned int n_changed =
+          active_set_update.count_changes(coupling, state);
         pcout << "    active set iteration " << std::setw(2) << iteration
-              << ": " << std::setw(6) << state.n_active() << " active, "
-              << std::setw(5) << n_changed << " changed";
+              << ": " << std::setw(6) << n_active << " active, " << std::setw(5)
+              << n_changed << " changed";
         if (!testing)
           pcout << ", CG " << linear.iterations << " it., residual "
                 << std::scientific << std::setprecision(1)
@@ -258,14 +341,15 @@ namespace TKR::Contact
               {
                 expansion_distance *= 4;
                 ++n_expansions;
-                const auto near = near_closest(expansion_distance);
+                const auto near =
+                  nodes_near_closest(coupling, expansion_distance);
                 for (unsigned int j = 0; j < n_slave; ++j)
                   state.active[j] = state.active[j] || near[j];
                 pcout << "    the linear solver failed (singular?): active set "
                          "widened to the nodes within "
                       << expansion_distance << " mm of the closest"
                       << std::endl;
-                history.clear();
+                active_set_update.clear_history();
                 rebuild_preconditioner = true;
                 continue;
               }
@@ -278,39 +362,10 @@ namespace TKR::Contact
               linear.relative_residual <= parameters.tolerance;
             break;
           }
-
-        // A set seen before means the iteration cycles: change only the
-        // node that violates its status most.
-        history.push_back(state.active);
-        if (std::find(history.begin(), history.end(), next) != history.end())
-          {
-            if (!damped)
-              pcout << "    the active set cycles: damped updates from now on"
-                    << std::endl;
-            damped = true;
-          }
-        if (damped)
-          {
-            const unsigned int worst =
-              std::max_element(violation.begin(), violation.end()) -
-              violation.begin();
-            next        = state.active;
-            next[worst] = !next[worst];
-          }
-        state.active = next;
+        active_set_update.update(coupling, state);
       }
 
-    // Results on the final state.
-    for (unsigned int j = 0; j < n_slave; ++j)
-      if (state.active[j])
-        {
-          ++statistics.n_active;
-          statistics.contact_area += nodes[j].D;
-          statistics.contact_force -=
-            state.pressure[j] * nodes[j].D * nodes[j].normal;
-          statistics.max_pressure =
-            std::max(statistics.max_pressure, state.pressure[j]);
-        }
+    add_contact_results(coupling, state, statistics);
     return statistics;
   }
 } // namespace TKR::Contact

@@ -7,6 +7,7 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <tkr/base/exceptions.h>
+#include <tkr/contact/condensed_solver.h>
 #include <tkr/contact/contact_problem.h>
 #include <tkr/contact/hertz.h>
 #include <tkr/contact/ipopt_solver.h>
@@ -238,6 +239,25 @@ namespace TKR::Contact
                           timer);
         return ipopt.solve(mapping, dirichlet, loads, state);
       }
+    if (parameters.contact_solver.algorithm ==
+        Parameters::ContactAlgorithm::condensed_active_set)
+      {
+        pcout << "Contact solve (condensed active set):" << std::endl;
+        CondensedActiveSetSolver condensed(
+          elasticity,
+          *coupling,
+          parameters.contact_solver,
+          parameters.materials.tibia.youngs_modulus,
+          mpi_communicator,
+          pcout,
+          timer);
+        condensed.factorize(mapping, dirichlet, loads);
+        return condensed.solve(
+          mapping,
+          loads,
+          parameters.contact_solver.initial_contact_distance,
+          state);
+      }
     pcout << "Contact solve (active set):" << std::endl;
     return solver->solve(mapping,
                          loads,
@@ -437,8 +457,8 @@ namespace TKR::Contact
     const ContactStatistics statistics = solve();
     report(statistics);
     if (parameters.verification.cross_check_with_ipopt &&
-        parameters.contact_solver.algorithm ==
-          Parameters::ContactAlgorithm::active_set)
+        parameters.contact_solver.algorithm !=
+          Parameters::ContactAlgorithm::ipopt)
       cross_check_with_ipopt();
     if (parameters.verification.analytic_solution !=
         Parameters::AnalyticSolution::none)

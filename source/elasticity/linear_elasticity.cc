@@ -169,6 +169,25 @@ namespace TKR::Elasticity
       for (unsigned int j = i + 1; j < dofs_per_cell; ++j)
         cell_matrix(i, j) = cell_matrix(j, i);
 
+    local_assemble_boundary(cell,
+                            fe_face_values,
+                            loads,
+                            &cell_matrix,
+                            cell_rhs);
+  }
+
+  // The boundary terms: tractions into the right-hand side and, when
+  // @p cell_matrix is given, the springs into the matrix.
+  void
+  LinearElasticity::local_assemble_boundary(
+    const typename DoFHandler<3>::active_cell_iterator &cell,
+    FEFaceValues<3>                                    &fe_face_values,
+    const BoundaryLoads                                &loads,
+    FullMatrix<double>                                 *cell_matrix,
+    Vector<double>                                     &cell_rhs) const
+  {
+    const unsigned int               dofs_per_cell = fe.n_dofs_per_cell();
+    const FEValuesExtractors::Vector displacement(0);
     for (const auto f : cell->face_indices())
       if (cell->face(f)->at_boundary() &&
           loads.acts_on(cell->face(f)->boundary_id()))
@@ -179,17 +198,19 @@ namespace TKR::Elasticity
             {
               const Point<3>    &x   = fe_face_values.quadrature_point(q);
               const Tensor<1, 3> t   = loads.traction(id, x);
-              const Tensor<2, 3> S   = loads.spring(id, x);
               const double       JxW = fe_face_values.JxW(q);
+              const Tensor<2, 3> S =
+                cell_matrix ? loads.spring(id, x) : Tensor<2, 3>();
               for (unsigned int i = 0; i < dofs_per_cell; ++i)
                 {
                   const Tensor<1, 3> v_i =
                     fe_face_values[displacement].value(i, q);
                   cell_rhs(i) += t * v_i * JxW;
-                  for (unsigned int j = 0; j < dofs_per_cell; ++j)
-                    cell_matrix(i, j) +=
-                      v_i * (S * fe_face_values[displacement].value(j, q)) *
-                      JxW;
+                  if (cell_matrix)
+                    for (unsigned int j = 0; j < dofs_per_cell; ++j)
+                      (*cell_matrix)(i, j) +=
+                        v_i * (S * fe_face_values[displacement].value(j, q)) *
+                        JxW;
                 }
             }
         }
@@ -256,6 +277,39 @@ namespace TKR::Elasticity
                                                                   system_rhs);
                          });
     system_matrix.compress(VectorOperation::add);
+    system_rhs.compress(VectorOperation::add);
+  }
+
+  void
+  LinearElasticity::assemble_rhs(const Mapping<3>                &mapping,
+                                 const AffineConstraints<double> &constraints,
+                                 const BoundaryLoads             &loads)
+  {
+    TimerOutput::Scope scope(timer, "assemble rhs");
+    system_rhs = 0;
+    FEFaceValues<3>                      fe_face_values(mapping,
+                                   fe,
+                                   QGauss<2>(fe.degree + 1),
+                                   update_values | update_quadrature_points |
+                                     update_JxW_values);
+    Vector<double>                       cell_rhs(fe.n_dofs_per_cell());
+    std::vector<types::global_dof_index> dof_indices(fe.n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && cell->at_boundary())
+        {
+          cell_rhs = 0;
+          local_assemble_boundary(cell,
+                                  fe_face_values,
+                                  loads,
+                                  nullptr,
+                                  cell_rhs);
+          if (cell_rhs.l2_norm() == 0.)
+            continue;
+          cell->get_dof_indices(dof_indices);
+          constraints.distribute_local_to_global(cell_rhs,
+                                                 dof_indices,
+                                                 system_rhs);
+        }
     system_rhs.compress(VectorOperation::add);
   }
 

@@ -325,7 +325,13 @@ namespace TKR::Parameters
                         "(rigid translation) only. It keeps every linear "
                         "system regular while the active set is wrong and "
                         "vanishes as the pose iteration converges (its force "
-                        "is then below this times 0.01 mm).");
+                        "is then below this times the Pose tolerance).");
+      prm.declare_entry("Pose tolerance",
+                        "0.001",
+                        Patterns::Double(0),
+                        "The tibia's pose (rigid translation) is updated "
+                        "until the mean displacement of its inferior "
+                        "surface is below this (mm).");
       prm.declare_entry("Tibial tray",
                         "rigid",
                         Patterns::Selection("rigid|free"),
@@ -381,6 +387,7 @@ namespace TKR::Parameters
       step_groups         = prm.get_integer("Step groups");
       rigid_tray          = (prm.get("Tibial tray") == "rigid");
       axial_stabilisation_spring = prm.get_double("Axial stabilisation spring");
+      pose_tolerance             = prm.get_double("Pose tolerance");
       ap_force_sign              = prm.get_double("AP force sign");
       ie_torque_sign             = prm.get_double("IE torque sign");
     }
@@ -434,13 +441,18 @@ namespace TKR::Parameters
   {
     prm.enter_subsection("Contact solver");
     {
-      prm.declare_entry("Solver",
-                        "active set",
-                        Patterns::Selection("active set|ipopt"),
-                        "active set: primal-dual active set (semismooth "
-                        "Newton) with AMG-preconditioned CG; ipopt: the same "
-                        "discrete problem as a convex QP solved by Ipopt "
-                        "(reference, slow).");
+      prm.declare_entry(
+        "Solver",
+        "auto",
+        Patterns::Selection("auto|active set|condensed active set|ipopt"),
+        "active set: primal-dual active set (semismooth Newton) with "
+        "AMG-preconditioned CG on the whole body; condensed active set: the "
+        "same iteration on the contact surface (Delassus matrix from one "
+        "sparse LU factorisation of the stiffness, kept for all solves; "
+        "needs a stiffness without rigid-body motion); ipopt: the same "
+        "discrete problem as a convex QP solved by Ipopt (reference, slow, "
+        "Problem = contact only); auto: condensed active set for Problem = "
+        "wear, active set for Problem = contact.");
       prm.declare_entry("Tolerance",
                         "1e-8",
                         Patterns::Double(0),
@@ -476,10 +488,15 @@ namespace TKR::Parameters
   {
     prm.enter_subsection("Contact solver");
     {
-      algorithm      = (prm.get("Solver") == "ipopt" ? ContactAlgorithm::ipopt :
-                                                       ContactAlgorithm::active_set);
-      tolerance      = prm.get_double("Tolerance");
-      max_iterations = prm.get_integer("Max iterations");
+      const std::string name = prm.get("Solver");
+      algorithm =
+        (name == "ipopt"      ? ContactAlgorithm::ipopt :
+         name == "active set" ? ContactAlgorithm::active_set :
+         name == "condensed active set" ?
+                                ContactAlgorithm::condensed_active_set :
+                                ContactAlgorithm::automatic);
+      tolerance                = prm.get_double("Tolerance");
+      max_iterations           = prm.get_integer("Max iterations");
       search_distance          = prm.get_double("Search distance");
       initial_contact_distance = prm.get_double("Initial contact distance");
       overlap_tolerance        = prm.get_double("Overlap tolerance");
@@ -508,13 +525,14 @@ namespace TKR::Parameters
                         Patterns::Double(0),
                         "Length of the cylinder along x, mm (the force per "
                         "length is the contact force over it).");
-      prm.declare_entry("Cross-check with Ipopt",
-                        "false",
-                        Patterns::Bool(),
-                        "(Problem = contact, Solver = active set, one MPI "
-                        "rank) Solve the same discrete problem again with "
-                        "Ipopt and report the largest differences of "
-                        "displacement and pressure.");
+      prm.declare_entry(
+        "Cross-check with Ipopt",
+        "false",
+        Patterns::Bool(),
+        "(Problem = contact, Solver = (condensed) active set, one MPI "
+        "rank) Solve the same discrete problem again with "
+        "Ipopt and report the largest differences of "
+        "displacement and pressure.");
     }
     prm.leave_subsection();
   }

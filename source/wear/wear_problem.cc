@@ -8,6 +8,8 @@
 
 #include <deal.II/numerics/vector_tools.h>
 
+#include <tkr/contact/condensed_solver.h>
+
 #include <tkr/base/exceptions.h>
 #include <tkr/mesh/mesh.h>
 #include <tkr/output/solution_output.h>
@@ -113,15 +115,50 @@ namespace TKR::Wear
       dof_handler,
       Mesh::BoundaryIds::femur_contact);
     coupling = std::make_unique<Mortar::MortarCoupling>(*slave, *master);
-    solver   = std::make_unique<Contact::ActiveSetSolver>(
-      elasticity,
-      *coupling,
-      parameters.contact_solver,
-      parameters.materials.tibia.youngs_modulus,
-      groups.communicator,
-      ConditionalOStream(std::cout, false),
-      timer,
-      parameters.output.testing);
+    const auto algorithm = parameters.contact_solver.algorithm;
+    AssertThrow(algorithm != Parameters::ContactAlgorithm::ipopt,
+                ExcInputError("Problem = wear cannot use Contact solver/"
+                              "Solver = ipopt (a reference for single "
+                              "contact solves); use auto, active set or "
+                              "condensed active set."));
+    if (algorithm == Parameters::ContactAlgorithm::active_set)
+      {
+        solver = std::make_unique<Contact::ActiveSetSolver>(
+          elasticity,
+          *coupling,
+          parameters.contact_solver,
+          parameters.materials.tibia.youngs_modulus,
+          groups.communicator,
+          ConditionalOStream(std::cout, false),
+          timer,
+          parameters.output.testing);
+        pcout << "Contact solver: active set, AMG-preconditioned CG"
+              << std::endl;
+      }
+    else
+      {
+        // The stiffness (with the springs) is the same in every step and
+        // pose update: factorise it once.
+        condensed = std::make_unique<Contact::CondensedActiveSetSolver>(
+          elasticity,
+          *coupling,
+          parameters.contact_solver,
+          parameters.materials.tibia.youngs_modulus,
+          groups.communicator,
+          ConditionalOStream(std::cout, false),
+          timer);
+        Timer factorisation_timer;
+        condensed->factorize(mapping,
+                             dirichlet,
+                             step_loads(waveform->at(0.), Tensor<1, 3>()));
+        pcout << "Contact solver: condensed active set (sparse LU of the "
+                 "stiffness";
+        if (!parameters.output.testing)
+          pcout << ", " << std::fixed << std::setprecision(1)
+                << factorisation_timer.wall_time() << " s" << std::defaultfloat
+                << std::setprecision(6);
+        pcout << ")" << std::endl;
+      }
     records.assign(n_steps, StepRecord());
     reports.assign(n_steps, StepReport());
     if (parameters.output.vtu_interval > 0)
@@ -261,35 +298,22 @@ namespace TKR::Wear
         if (step == 0 && pose_iteration == 0)
           check_initial_overlap();
 
-        solver->setup(dirichlet);
+        if (solver)
+          solver->setup(dirichlet);
         if (state.active.size() != nodes.size())
           state = Contact::ContactState();
-        Elasticity::BoundaryLoads loads = gait_loads->loads(gait);
-        // Stabilisation: an axial spring on the displacement relative to
-        // the pose only, so that no linear system is singular while the
-        // active set is still wrong. It vanishes as the pose converges.
-        Tensor<2, 3> axial_spring;
-        axial_spring[2][2] = parameters.gait.axial_stabilisation_spring /
-                             gait_loads->inferior_area();
-        loads.springs[Mesh::BoundaryIds::tibia_inferior] = axial_spring;
-        const auto         id        = Mesh::BoundaryIds::tibia_inferior;
-        const auto         springs   = loads.spring_fields.at(id);
-        const auto         tractions = loads.traction_fields.at(id);
-        const Tensor<1, 3> pose      = tibia_pose;
-        loads.traction_fields[id]    = [=](const Point<3> &x) {
-          return tractions(x) - springs(x) * pose;
-        };
+        const Elasticity::BoundaryLoads loads = step_loads(gait, tibia_pose);
+        const double                    initial_distance =
+          parameters.contact_solver.initial_contact_distance;
         statistics =
-          solver->solve(mapping,
-                        loads,
-                        parameters.contact_solver.initial_contact_distance,
-                        state);
+          solver ? solver->solve(mapping, loads, initial_distance, state) :
+                   condensed->solve(mapping, loads, initial_distance, state);
         newton_iterations += statistics.newton_iterations;
 
         // The rigid part of the tibia's displacement: its mean over the
         // inferior surface, far from the contact's local deformation.
         const Tensor<1, 3> mean = mean_inferior_displacement();
-        pose_converged          = mean.norm() <= pose_tolerance;
+        pose_converged          = mean.norm() <= parameters.gait.pose_tolerance;
         if (!statistics.converged || pose_converged ||
             pose_iteration + 1 >= max_pose_iterations)
           break;
@@ -327,6 +351,30 @@ namespace TKR::Wear
     if (parameters.output.vtu_interval > 0 &&
         step % parameters.output.vtu_interval == 0)
       output_step(step, motion);
+  }
+
+  // The loads of a gait step on the tibia in its pose: the gait's
+  // tractions, the restraint springs acting on pose plus displacement (the
+  // pose part is a traction), and a stabilisation spring on the
+  // displacement relative to the pose only, so that no linear system is
+  // singular while the active set is still wrong; it vanishes as the pose
+  // converges. The springs are the same in every step.
+  Elasticity::BoundaryLoads
+  WearProblem::step_loads(const Gait::GaitState &gait,
+                          const Tensor<1, 3>    &pose) const
+  {
+    Elasticity::BoundaryLoads loads = gait_loads->loads(gait);
+    Tensor<2, 3>              axial_spring;
+    axial_spring[2][2] =
+      parameters.gait.axial_stabilisation_spring / gait_loads->inferior_area();
+    const auto id             = Mesh::BoundaryIds::tibia_inferior;
+    loads.springs[id]         = axial_spring;
+    const auto springs        = loads.spring_fields.at(id);
+    const auto tractions      = loads.traction_fields.at(id);
+    loads.traction_fields[id] = [=](const Point<3> &x) {
+      return tractions(x) - springs(x) * pose;
+    };
+    return loads;
   }
 
   Tensor<1, 3>

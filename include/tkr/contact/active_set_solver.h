@@ -53,6 +53,70 @@ namespace TKR::Contact
   };
 
   /**
+   * The covered slave nodes whose initial (weighted) gap exceeds the
+   * smallest one by at most @p distance mm: the initial active set when
+   * there is no warm start (for a body held only by contact this closes
+   * the smallest gap first).
+   */
+  std::vector<bool>
+  nodes_near_closest(const Mortar::MortarCoupling &coupling,
+                     const double                  distance);
+
+  /**
+   * The active-set update both active-set solvers share. Node j is active
+   * next when lambda_j - c_j g_j > 0, with c_j = E / h_j (h_j =
+   * sqrt(D_jj)). A set seen before means the iteration cycles: from then on
+   * only the node that violates its status most changes per update.
+   */
+  class ActiveSetUpdate
+  {
+  public:
+    ActiveSetUpdate(const dealii::ConditionalOStream &pcout,
+                    const double                      slave_youngs_modulus);
+
+    /**
+     * Set the next active set in @p state from its pressures and gaps;
+     * returns how many nodes changed status (before any damping).
+     */
+    unsigned int
+    update(const Mortar::MortarCoupling &coupling, ContactState &state);
+
+    /** How many nodes update() would change. */
+    unsigned int
+    count_changes(const Mortar::MortarCoupling &coupling,
+                  const ContactState           &state) const;
+
+    /** Forget the sets seen so far (after the set was changed otherwise). */
+    void
+    clear_history()
+    {
+      history.clear();
+    }
+
+  private:
+    /** The next set and each node's violation of its present status. */
+    unsigned int
+    next_set(const Mortar::MortarCoupling &coupling,
+             const ContactState           &state,
+             std::vector<bool>            &next,
+             std::vector<double>          &violation) const;
+
+    const dealii::ConditionalOStream &pcout;
+    const double                      slave_youngs_modulus;
+    std::vector<std::vector<bool>>    history;
+    bool                              damped = false;
+  };
+
+  /**
+   * Active nodes, contact area (sum of their D_jj), contact force on the
+   * slave body and peak pressure of @p state, into @p statistics.
+   */
+  void
+  add_contact_results(const Mortar::MortarCoupling &coupling,
+                      const ContactState           &state,
+                      ContactStatistics            &statistics);
+
+  /**
    * Primal-dual active set method (semismooth Newton, Hueber & Wohlmuth)
    * for frictionless mortar contact between the two linear-elastic bodies
    * (DESIGN.md section 4.4).

@@ -127,6 +127,17 @@ namespace TKR::Elasticity
                     const BoundaryLoads                     &loads);
 
     /**
+     * Only the right-hand side of assemble_system() (the boundary
+     * tractions; there are no body forces), condensed with
+     * @p constraints, which must be homogeneous. For a matrix that stays
+     * the same while the loads change.
+     */
+    void
+    assemble_rhs(const dealii::Mapping<3>                &mapping,
+                 const dealii::AffineConstraints<double> &constraints,
+                 const BoundaryLoads                     &loads);
+
+    /**
      * The residual r = f - K u of the unconstrained system for the current
      * solution, in @p residual (locally owned entries). At a slave node in
      * contact it is the contact force that the constraints exert.
@@ -231,6 +242,14 @@ namespace TKR::Elasticity
                    const BoundaryLoads        &loads,
                    dealii::FullMatrix<double> &cell_matrix,
                    dealii::Vector<double>     &cell_rhs) const;
+
+    void
+    local_assemble_boundary(
+      const dealii::DoFHandler<3>::active_cell_iterator &cell,
+      dealii::FEFaceValues<3>                           &fe_face_values,
+      const BoundaryLoads                               &loads,
+      dealii::FullMatrix<double>                        *cell_matrix,
+      dealii::Vector<double>                            &cell_rhs) const;
 
     const Parameters::Materials    materials;
     const Parameters::LinearSolver solver_parameters;

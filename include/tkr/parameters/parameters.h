@@ -156,6 +156,9 @@ namespace TKR::Parameters
      * numerical stabilisation that vanishes as the pose iteration converges.
      */
     double axial_stabilisation_spring;
+    /** Pose updates stop when the mean inferior displacement is below this
+     * (mm). */
+    double pose_tolerance;
     /** The insert sits in a rigid tray that cannot tilt sagittally. */
     bool rigid_tray;
     /** MPI groups that share the steps of a cycle (0: one per rank). */
@@ -188,7 +191,10 @@ namespace TKR::Parameters
   /** The algorithm for the contact problem. */
   enum class ContactAlgorithm
   {
+    /** condensed_active_set for Problem = wear, active_set otherwise. */
+    automatic,
     active_set,
+    condensed_active_set,
     ipopt
   };
 

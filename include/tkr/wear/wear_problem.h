@@ -14,6 +14,7 @@
 #include <deal.II/lac/affine_constraints.h>
 
 #include <tkr/contact/active_set_solver.h>
+#include <tkr/contact/condensed_solver.h>
 #include <tkr/elasticity/linear_elasticity.h>
 #include <tkr/gait/gait_loads.h>
 #include <tkr/gait/waveform.h>
@@ -113,6 +114,10 @@ namespace TKR::Wear
     check_initial_overlap() const;
     void
     add_tray_constraints();
+    /** Loads of a step on the tibia translated by @p pose (mm). */
+    Elasticity::BoundaryLoads
+    step_loads(const Gait::GaitState      &gait,
+               const dealii::Tensor<1, 3> &pose) const;
     /** Mean displacement of the tibia's inferior surface (mm). */
     dealii::Tensor<1, 3>
     mean_inferior_displacement() const;
@@ -128,17 +133,17 @@ namespace TKR::Wear
     Elasticity::LinearElasticity               elasticity;
     std::unique_ptr<Mortar::ContactSurface>    slave, master;
     std::unique_ptr<Mortar::MortarCoupling>    coupling;
-    std::unique_ptr<Contact::ActiveSetSolver>  solver;
-    std::unique_ptr<Gait::Waveform>            waveform;
-    std::unique_ptr<Gait::GaitLoads>           gait_loads;
-    dealii::AffineConstraints<double>          dirichlet;
-    std::vector<bool>                          is_femur_vertex;
+    /** One of the two: the contact solver chosen in the parameter file. */
+    std::unique_ptr<Contact::ActiveSetSolver>          solver;
+    std::unique_ptr<Contact::CondensedActiveSetSolver> condensed;
+    std::unique_ptr<Gait::Waveform>                    waveform;
+    std::unique_ptr<Gait::GaitLoads>                   gait_loads;
+    dealii::AffineConstraints<double>                  dirichlet;
+    std::vector<bool>                                  is_femur_vertex;
 
     unsigned int n_steps;
     /** The tibia's rigid translation, carried from step to step (mm). */
-    dealii::Tensor<1, 3> tibia_pose;
-    /** Pose updates stop when the correction is below this (mm). */
-    const double                       pose_tolerance      = 1e-2;
+    dealii::Tensor<1, 3>               tibia_pose;
     const unsigned int                 max_pose_iterations = 40;
     Contact::ContactState              state;
     std::vector<StepRecord>            records;

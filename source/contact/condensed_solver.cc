@@ -1,0 +1,429 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#include <deal.II/base/timer.h>
+
+#include <deal.II/lac/lapack_full_matrix.h>
+
+#include <tkr/base/exceptions.h>
+#include <tkr/contact/condensed_solver.h>
+
+#include <algorithm>
+#include <iomanip>
+#include <limits>
+
+namespace TKR::Contact
+{
+  using namespace dealii;
+
+  CondensedActiveSetSolver::CondensedActiveSetSolver(
+    Elasticity::LinearElasticity    &elasticity,
+    const Mortar::MortarCoupling    &coupling,
+    const Parameters::ContactSolver &parameters,
+    const double                     slave_youngs_modulus,
+    const MPI_Comm                   mpi_communicator,
+    const ConditionalOStream        &pcout,
+    TimerOutput                     &timer)
+    : elasticity(elasticity)
+    , coupling(coupling)
+    , parameters(parameters)
+    , slave_youngs_modulus(slave_youngs_modulus)
+    , mpi_communicator(mpi_communicator)
+    , pcout(pcout)
+    , timer(timer)
+  {}
+
+  void
+  CondensedActiveSetSolver::factorize(
+    const Mapping<3>                &mapping,
+    const AffineConstraints<double> &dirichlet_constraints,
+    const Elasticity::BoundaryLoads &loads)
+  {
+    dirichlet.clear();
+    dirichlet.copy_from(dirichlet_constraints);
+    elasticity.setup_system(dirichlet);
+    elasticity.assemble_system(mapping, dirichlet, loads);
+    // The part of the right-hand side that comes from inhomogeneous
+    // Dirichlet values (assemble_rhs() leaves it out).
+    dirichlet_rhs = elasticity.get_system_rhs();
+    elasticity.assemble_rhs(mapping, dirichlet, loads);
+    dirichlet_rhs -= elasticity.get_system_rhs();
+    {
+      TimerOutput::Scope scope(timer, "direct factorisation");
+      direct_solver.factorize(elasticity.get_system_matrix());
+    }
+
+    surface_dofs.clear();
+    for (const auto &node : coupling.slave_surface().nodes())
+      surface_dofs.insert(surface_dofs.end(),
+                          node.dofs.begin(),
+                          node.dofs.end());
+    n_slave_values = surface_dofs.size();
+    for (const auto &node : coupling.master_surface().nodes())
+      surface_dofs.insert(surface_dofs.end(),
+                          node.dofs.begin(),
+                          node.dofs.end());
+    n_master_values = surface_dofs.size() - n_slave_values;
+    slave_columns.assign(coupling.slave_surface().nodes().size(), {});
+    slave_column_normals.assign(slave_columns.size(), Tensor<1, 3>());
+    master_columns.assign(coupling.master_surface().nodes().size(), {});
+    n_stored_columns = 0;
+  }
+
+  // A unit load on a constrained DoF acts on the DoFs it depends on (the
+  // transpose of the constraint), which is what assembling it would do.
+  void
+  CondensedActiveSetSolver::add_load(Epetra_MultiVector           &B,
+                                     const unsigned int            c,
+                                     const types::global_dof_index dof,
+                                     const double                  value) const
+  {
+    if (const auto *entries = dirichlet.get_constraint_entries(dof))
+      {
+        for (const auto &[k, weight] : *entries)
+          add_load(B, c, k, weight * value);
+        return;
+      }
+    const int local = B.Map().LID(static_cast<int>(dof));
+    if (local >= 0)
+      B[c][local] += value;
+  }
+
+  // Each rank adds the values it owns (for a constrained DoF the weighted
+  // values of the DoFs it depends on); one sum gives all ranks all values.
+  std::vector<double>
+  CondensedActiveSetSolver::read_surface(const Epetra_MultiVector &X,
+                                         const bool distributed) const
+  {
+    const unsigned int  n = surface_dofs.size();
+    std::vector<double> values(X.NumVectors() * n, 0.);
+    const auto          add = [&](const types::global_dof_index dof,
+                         const double                  weight,
+                         const unsigned int            i) {
+      const int local = X.Map().LID(static_cast<int>(dof));
+      if (local >= 0)
+        for (int c = 0; c < X.NumVectors(); ++c)
+          values[c * n + i] += weight * X[c][local];
+    };
+    for (unsigned int i = 0; i < n; ++i)
+      if (distributed)
+        add(surface_dofs[i], 1., i);
+      else if (const auto *entries =
+                 dirichlet.get_constraint_entries(surface_dofs[i]))
+        for (const auto &[k, weight] : *entries)
+          add(k, weight, i);
+      else if (!dirichlet.is_constrained(surface_dofs[i]))
+        add(surface_dofs[i], 1., i);
+    const int ierr = MPI_Allreduce(MPI_IN_PLACE,
+                                   values.data(),
+                                   values.size(),
+                                   MPI_DOUBLE,
+                                   MPI_SUM,
+                                   mpi_communicator);
+    AssertThrowMPI(ierr);
+    return values;
+  }
+
+  // The columns are solved in batches (the LU factors are applied to many
+  // right-hand sides at once); of each only the surface values are kept.
+  void
+  CondensedActiveSetSolver::compute_columns(
+    const std::vector<unsigned int> &slave,
+    const std::vector<unsigned int> &master)
+  {
+    TimerOutput::Scope scope(timer, "compliance columns");
+    const auto        &slave_nodes  = coupling.slave_surface().nodes();
+    const auto        &master_nodes = coupling.master_surface().nodes();
+    const auto        &nodes        = coupling.slave_nodes();
+    // (slave node or master node, direction): direction 3 = slave normal.
+    std::vector<std::pair<unsigned int, unsigned int>> loads;
+    for (const unsigned int j : slave)
+      loads.emplace_back(j, 3);
+    for (const unsigned int k : master)
+      for (unsigned int d = 0; d < 3; ++d)
+        loads.emplace_back(k, d);
+    const unsigned int batch = 128, n = surface_dofs.size();
+    for (unsigned int start = 0; start < loads.size(); start += batch)
+      {
+        const unsigned int n_columns =
+          std::min<unsigned int>(batch, loads.size() - start);
+        Epetra_MultiVector B(direct_solver.row_map(), n_columns);
+        Epetra_MultiVector X(direct_solver.row_map(), n_columns);
+        for (unsigned int c = 0; c < n_columns; ++c)
+          {
+            const auto [node, d] = loads[start + c];
+            if (d == 3)
+              for (unsigned int e = 0; e < 3; ++e)
+                add_load(B,
+                         c,
+                         slave_nodes[node].dofs[e],
+                         nodes[node].normal[e]);
+            else
+              add_load(B, c, master_nodes[node].dofs[d], 1.);
+          }
+        direct_solver.solve(X, B);
+        const std::vector<double> values = read_surface(X, false);
+        for (unsigned int c = 0; c < n_columns; ++c)
+          {
+            const auto [node, d] = loads[start + c];
+            const double *column = &values[c * n];
+            // The other body's part must vanish (K does not couple them).
+            const bool    is_slave = (d == 3);
+            const double *own   = is_slave ? column : column + n_slave_values;
+            const double *other = is_slave ? column + n_slave_values : column;
+            const unsigned int n_own =
+              is_slave ? n_slave_values : n_master_values;
+            const unsigned int n_other =
+              is_slave ? n_master_values : n_slave_values;
+            double own_max = 0, other_max = 0;
+            for (unsigned int i = 0; i < n_own; ++i)
+              own_max = std::max(own_max, std::abs(own[i]));
+            for (unsigned int i = 0; i < n_other; ++i)
+              other_max = std::max(other_max, std::abs(other[i]));
+            AssertThrow(other_max <= 1e-12 * own_max,
+                        ExcInputError(
+                          "The condensed active set needs bodies that touch "
+                          "only through contact, but the stiffness matrix "
+                          "couples the tibia_contact and femur_contact "
+                          "surfaces. Use Contact solver/Solver = active "
+                          "set."));
+            if (is_slave)
+              {
+                slave_columns[node].assign(own, own + n_own);
+                slave_column_normals[node] = nodes[node].normal;
+              }
+            else
+              {
+                auto &stored = master_columns[node];
+                stored.resize(3 * n_master_values);
+                std::copy(own,
+                          own + n_own,
+                          stored.begin() + d * n_master_values);
+              }
+          }
+        n_stored_columns += n_columns;
+      }
+  }
+
+  // The Newton iteration on the multipliers. Per iteration: the columns the
+  // active set needs, z_i = K^{-1} B_i^T at the surface for every active
+  // node i, the dense matrix W_AA = B_A z_A, its Cholesky solve for
+  // lambda_A, then the surface displacement u = u_0 - sum_i lambda_i z_i
+  // gives the gaps of all nodes and the next active set.
+  ContactStatistics
+  CondensedActiveSetSolver::solve(const Mapping<3>                &mapping,
+                                  const Elasticity::BoundaryLoads &loads,
+                                  const double  initial_distance,
+                                  ContactState &state)
+  {
+    const auto        &nodes   = coupling.slave_nodes();
+    const unsigned int n_slave = nodes.size();
+    const unsigned int n       = surface_dofs.size();
+    Assert(direct_solver.is_factorized(),
+           ExcMessage("Call factorize() before solve()."));
+
+    // u_0 = K^{-1} f.
+    elasticity.assemble_rhs(mapping, dirichlet, loads);
+    TrilinosWrappers::MPI::Vector f = elasticity.get_system_rhs();
+    f += dirichlet_rhs;
+    TrilinosWrappers::MPI::Vector u0(f);
+    {
+      TimerOutput::Scope scope(timer, "direct solve");
+      direct_solver.solve(u0.trilinos_vector(), f.trilinos_vector());
+    }
+    dirichlet.distribute(u0);
+    const std::vector<double> u0_surface =
+      read_surface(u0.trilinos_vector(), true);
+
+    // B_j applied to surface values v: D_jj n_j . v_j - n^m_j . sum_k M_jk v_k.
+    const auto apply_B = [&](const unsigned int j,
+                             const double      *slave_values,
+                             const double      *master_values) {
+      const auto  &node = nodes[j];
+      Tensor<1, 3> v_master;
+      for (const auto &[k, M] : node.M)
+        for (unsigned int e = 0; e < 3; ++e)
+          v_master[e] += M * master_values[3 * k + e];
+      double result = -node.master_normal * v_master;
+      for (unsigned int e = 0; e < 3; ++e)
+        result += node.D * node.normal[e] * slave_values[3 * j + e];
+      return result;
+    };
+
+    if (state.active.size() != n_slave || state.n_active() == 0)
+      state.active = nodes_near_closest(coupling, initial_distance);
+    else
+      for (unsigned int j = 0; j < n_slave; ++j)
+        state.active[j] = state.active[j] && nodes[j].covered;
+    state.pressure.assign(n_slave, 0.);
+    state.gap.assign(n_slave, std::numeric_limits<double>::quiet_NaN());
+    state.displacement.assign(n_slave, Tensor<1, 3>());
+
+    ContactStatistics   statistics;
+    ActiveSetUpdate     active_set_update(pcout, slave_youngs_modulus);
+    const unsigned int  n_columns_before = n_stored_columns;
+    std::vector<double> u_surface;
+    // z_i for the nodes needed so far in this solve (the geometry, and so
+    // B, is fixed within it).
+    std::vector<std::vector<double>> z(n_slave);
+
+    for (unsigned int iteration = 1; iteration <= parameters.max_iterations;
+         ++iteration)
+      {
+        statistics.newton_iterations = iteration;
+        std::vector<unsigned int> active;
+        for (unsigned int j = 0; j < n_slave; ++j)
+          if (state.active[j])
+            active.push_back(j);
+
+        // The columns this active set needs.
+        std::vector<unsigned int> slave_needed, master_needed;
+        for (const unsigned int i : active)
+          {
+            if (slave_columns[i].empty() ||
+                (slave_column_normals[i] - nodes[i].normal).norm() > 1e-12)
+              slave_needed.push_back(i);
+            for (const auto &[k, M] : nodes[i].M)
+              if (master_columns[k].empty())
+                master_needed.push_back(k);
+          }
+        std::sort(master_needed.begin(), master_needed.end());
+        master_needed.erase(std::unique(master_needed.begin(),
+                                        master_needed.end()),
+                            master_needed.end());
+        if (!slave_needed.empty() || !master_needed.empty())
+          compute_columns(slave_needed, master_needed);
+
+        std::vector<double> lambda(active.size(), 0.);
+        {
+          TimerOutput::Scope scope(timer, "condensed Newton step");
+          for (const unsigned int i : active)
+            if (z[i].empty())
+              {
+                // z_i = D_ii K^{-1} n_i (slave part)
+                //       - sum_k M_ik K^{-1} n^m_i (master part).
+                auto &z_i = z[i];
+                z_i.assign(n, 0.);
+                for (unsigned int r = 0; r < n_slave_values; ++r)
+                  z_i[r] = nodes[i].D * slave_columns[i][r];
+                for (const auto &[k, M] : nodes[i].M)
+                  for (unsigned int d = 0; d < 3; ++d)
+                    {
+                      const double weight = -M * nodes[i].master_normal[d];
+                      if (weight == 0.)
+                        continue;
+                      const double *column =
+                        &master_columns[k][d * n_master_values];
+                      for (unsigned int r = 0; r < n_master_values; ++r)
+                        z_i[n_slave_values + r] += weight * column[r];
+                    }
+              }
+
+          // W_AA lambda_A = -g_0,A with g_0 = g - B u_0.
+          const unsigned int       n_active = active.size();
+          LAPACKFullMatrix<double> W(n_active, n_active);
+          Vector<double>           rhs(n_active);
+          for (unsigned int a = 0; a < n_active; ++a)
+            {
+              const unsigned int j = active[a];
+              rhs(a)               = -(nodes[j].weighted_gap -
+                         apply_B(j,
+                                 u0_surface.data(),
+                                 u0_surface.data() + n_slave_values));
+              for (unsigned int b = 0; b < n_active; ++b)
+                W(a, b) = apply_B(j,
+                                  z[active[b]].data(),
+                                  z[active[b]].data() + n_slave_values);
+            }
+          if (n_active > 0)
+            {
+              // W is symmetric positive definite in exact arithmetic;
+              // symmetrise the round-off before the Cholesky factorisation.
+              for (unsigned int a = 0; a < n_active; ++a)
+                for (unsigned int b = 0; b < a; ++b)
+                  W(a, b) = W(b, a) = 0.5 * (W(a, b) + W(b, a));
+              W.set_property(LAPACKSupport::symmetric);
+              W.compute_cholesky_factorization();
+              W.solve(rhs);
+            }
+          for (unsigned int a = 0; a < n_active; ++a)
+            lambda[a] = rhs(a);
+
+          // Surface displacement, pressures and gaps.
+          u_surface = u0_surface;
+          for (unsigned int a = 0; a < n_active; ++a)
+            {
+              const auto &z_i = z[active[a]];
+              for (unsigned int r = 0; r < n; ++r)
+                u_surface[r] -= lambda[a] * z_i[r];
+            }
+          std::fill(state.pressure.begin(), state.pressure.end(), 0.);
+          for (unsigned int a = 0; a < n_active; ++a)
+            state.pressure[active[a]] = lambda[a];
+          for (unsigned int j = 0; j < n_slave; ++j)
+            if (nodes[j].covered)
+              state.gap[j] = (nodes[j].weighted_gap -
+                              apply_B(j,
+                                      u_surface.data(),
+                                      u_surface.data() + n_slave_values)) /
+                             nodes[j].D;
+        }
+
+        const unsigned int n_changed =
+          active_set_update.count_changes(coupling, state);
+        pcout << "    active set iteration " << std::setw(2) << iteration
+              << ": " << std::setw(6) << active.size() << " active, "
+              << std::setw(5) << n_changed << " changed" << std::endl;
+        if (n_changed == 0)
+          {
+            statistics.converged = true;
+            break;
+          }
+        active_set_update.update(coupling, state);
+      }
+
+    // The full displacement for the final multipliers:
+    // u = K^{-1} (f - B^T lambda).
+    {
+      TimerOutput::Scope  scope(timer, "direct solve");
+      const auto         &slave_nodes  = coupling.slave_surface().nodes();
+      const auto         &master_nodes = coupling.master_surface().nodes();
+      Epetra_MultiVector &b            = f.trilinos_vector();
+      for (unsigned int j = 0; j < n_slave; ++j)
+        if (state.active[j])
+          {
+            const double force = state.pressure[j] * nodes[j].D;
+            for (unsigned int e = 0; e < 3; ++e)
+              add_load(b,
+                       0,
+                       slave_nodes[j].dofs[e],
+                       -force * nodes[j].normal[e]);
+            for (const auto &[k, M] : nodes[j].M)
+              for (unsigned int e = 0; e < 3; ++e)
+                add_load(b,
+                         0,
+                         master_nodes[k].dofs[e],
+                         force / nodes[j].D * M * nodes[j].master_normal[e]);
+          }
+      TrilinosWrappers::MPI::Vector u(f);
+      direct_solver.solve(u.trilinos_vector(), f.trilinos_vector());
+      TrilinosWrappers::MPI::Vector residual(f);
+      const double                  relative_residual =
+        elasticity.get_system_matrix().residual(residual, u, f) /
+        std::max(f.l2_norm(), std::numeric_limits<double>::min());
+      statistics.relative_residual = relative_residual;
+      statistics.converged =
+        statistics.converged && relative_residual <= parameters.tolerance;
+      dirichlet.distribute(u);
+      elasticity.set_solution(u);
+      const std::vector<double> u_final =
+        read_surface(u.trilinos_vector(), true);
+      for (unsigned int j = 0; j < n_slave; ++j)
+        for (unsigned int e = 0; e < 3; ++e)
+          state.displacement[j][e] = u_final[3 * j + e];
+    }
+    statistics.linear_iterations = n_stored_columns - n_columns_before;
+    add_contact_results(coupling, state, statistics);
+    return statistics;
+  }
+} // namespace TKR::Contact
