@@ -36,6 +36,25 @@ namespace TKR::Contact
     return near;
   }
 
+  void
+  start_state(const Mortar::MortarCoupling &coupling,
+              const double                  initial_distance,
+              ContactState                 &state)
+  {
+    const auto        &nodes   = coupling.slave_nodes();
+    const unsigned int n_slave = nodes.size();
+    if (state.active.size() != n_slave || state.n_active() == 0)
+      state.active = nodes_near_closest(coupling, initial_distance);
+    else
+      // A warm start from another geometry: only covered nodes may be
+      // active.
+      for (unsigned int j = 0; j < n_slave; ++j)
+        state.active[j] = state.active[j] && nodes[j].covered;
+    state.pressure.assign(n_slave, 0.);
+    state.gap.assign(n_slave, std::numeric_limits<double>::quiet_NaN());
+    state.displacement.assign(n_slave, Tensor<1, 3>());
+  }
+
   ActiveSetUpdate::ActiveSetUpdate(const ConditionalOStream &pcout,
                                    const double slave_youngs_modulus)
     : pcout(pcout)
@@ -243,16 +262,7 @@ namespace TKR::Contact
     const unsigned int n_slave      = nodes.size();
     const unsigned int master_start = 3 * n_slave;
 
-    if (state.active.size() != n_slave || state.n_active() == 0)
-      state.active = nodes_near_closest(coupling, initial_distance);
-    else
-      // A warm start from another geometry: only covered nodes may be
-      // active (the sparsity pattern holds only their couplings).
-      for (unsigned int j = 0; j < n_slave; ++j)
-        state.active[j] = state.active[j] && nodes[j].covered;
-    state.pressure.assign(n_slave, 0.);
-    state.gap.assign(n_slave, std::numeric_limits<double>::quiet_NaN());
-    state.displacement.assign(n_slave, Tensor<1, 3>());
+    start_state(coupling, initial_distance, state);
 
     ContactStatistics         statistics;
     ActiveSetUpdate           active_set_update(pcout, slave_youngs_modulus);

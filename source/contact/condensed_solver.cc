@@ -250,14 +250,7 @@ namespace TKR::Contact
       return result;
     };
 
-    if (state.active.size() != n_slave || state.n_active() == 0)
-      state.active = nodes_near_closest(coupling, initial_distance);
-    else
-      for (unsigned int j = 0; j < n_slave; ++j)
-        state.active[j] = state.active[j] && nodes[j].covered;
-    state.pressure.assign(n_slave, 0.);
-    state.gap.assign(n_slave, std::numeric_limits<double>::quiet_NaN());
-    state.displacement.assign(n_slave, Tensor<1, 3>());
+    start_state(coupling, initial_distance, state);
 
     ContactStatistics   statistics;
     ActiveSetUpdate     active_set_update(pcout, slave_youngs_modulus);

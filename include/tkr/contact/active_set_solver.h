@@ -63,6 +63,17 @@ namespace TKR::Contact
                      const double                  distance);
 
   /**
+   * The state a contact solve starts from: the active set of @p state if
+   * it has one (restricted to covered nodes, a warm start), else the nodes
+   * near the closest (nodes_near_closest()); pressures and displacements
+   * zero, gaps unknown.
+   */
+  void
+  start_state(const Mortar::MortarCoupling &coupling,
+              const double                  initial_distance,
+              ContactState                 &state);
+
+  /**
    * The active-set update both active-set solvers share. Node j is active
    * next when lambda_j - c_j g_j > 0, with c_j = E / h_j (h_j =
    * sqrt(D_jj)). A set seen before means the iteration cycles: from then on

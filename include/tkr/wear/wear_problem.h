@@ -72,9 +72,11 @@ namespace TKR::Wear
    * loaded on its inferior surface by the axial force, the AP force and the
    * IE torque, and held by the AP and IE restraint springs. The steps are
    * independent: the MPI ranks are split into groups that each solve a
-   * share of them on their own parallel::shared triangulation, warm-started
-   * from the group's previous step. Then the records are collected on every
-   * rank and Archard's law gives the wear of the cycle.
+   * share of them on their own parallel::shared triangulation, each step
+   * from the same cold start (so the grouping does not change the result).
+   * The stiffness is the same in every step, so the default contact solver
+   * factorises it once (CondensedActiveSetSolver). Then the records are
+   * collected on every rank and Archard's law gives the wear of the cycle.
    */
   class WearProblem
   {
