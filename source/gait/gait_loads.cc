@@ -152,6 +152,51 @@ namespace TKR::Gait
     return loads;
   }
 
+  namespace
+  {
+    /** -(k_beyond - k) (|x| - range) sign(x) outside the range, else 0. */
+    double
+    excess(const double x,
+           const double range,
+           const double k,
+           const double k_beyond)
+    {
+      const double beyond = std::max(0., std::abs(x) - range);
+      return -(k_beyond - k) * beyond * (x < 0 ? -1. : 1.);
+    }
+  } // namespace
+
+  double
+  GaitLoads::ap_restraint_excess(const double d) const
+  {
+    return excess(d,
+                  parameters.ap_spring_range,
+                  parameters.ap_spring_stiffness,
+                  parameters.ap_spring_stiffness_beyond);
+  }
+
+  double
+  GaitLoads::ie_restraint_excess(const double theta) const
+  {
+    return excess(theta,
+                  parameters.ie_spring_range,
+                  parameters.ie_spring_stiffness,
+                  parameters.ie_spring_stiffness_beyond);
+  }
+
+  Elasticity::BoundaryLoads::TractionField
+  GaitLoads::restraint_traction(const double force_y,
+                                const double torque_z) const
+  {
+    const double   A = surface.area, J = surface.J;
+    const Point<3> c = surface.centroid;
+    return [=](const Point<3> &x) {
+      const double dx = x[0] - c[0], dy = x[1] - c[1];
+      return Tensor<1, 3>(
+        {-torque_z * dy / J, force_y / A + torque_z * dx / J, 0.});
+    };
+  }
+
   Tensor<2, 3>
   GaitLoads::femur_rotation(const GaitState &state) const
   {

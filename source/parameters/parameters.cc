@@ -310,12 +310,40 @@ namespace TKR::Parameters
       prm.declare_entry("AP spring stiffness",
                         "9.3",
                         Patterns::Double(0),
-                        "Anterior-posterior restraint spring, N/mm.");
+                        "Anterior-posterior restraint spring, N/mm (within "
+                        "the AP spring range).");
       prm.declare_entry("IE spring stiffness",
                         "130",
                         Patterns::Double(0),
                         "Internal-external rotation restraint spring, "
-                        "N mm/deg.");
+                        "N mm/deg (within the IE spring range).");
+      prm.declare_entry("AP spring range",
+                        "2.5",
+                        Patterns::Double(0),
+                        "The AP restraint has the AP spring stiffness within "
+                        "+- this AP translation of the tibia (mm) and the "
+                        "AP spring stiffness beyond range outside it "
+                        "(ISO 14243-1:2009 two-rate law, values as commonly "
+                        "cited).");
+      prm.declare_entry("AP spring stiffness beyond range",
+                        "44",
+                        Patterns::Double(0),
+                        "AP restraint stiffness beyond the AP spring range, "
+                        "N/mm. Equal to the AP spring stiffness: a linear "
+                        "spring.");
+      prm.declare_entry("IE spring range",
+                        "6",
+                        Patterns::Double(0),
+                        "The IE restraint has the IE spring stiffness within "
+                        "+- this rotation of the tibia about the axial "
+                        "direction (deg) and the IE spring stiffness beyond "
+                        "range outside it.");
+      prm.declare_entry("IE spring stiffness beyond range",
+                        "360",
+                        Patterns::Double(0),
+                        "IE restraint stiffness beyond the IE spring range, "
+                        "N mm/deg. Equal to the IE spring stiffness: a "
+                        "linear spring.");
       prm.declare_entry("Axial stabilisation spring",
                         "100",
                         Patterns::Double(0),
@@ -383,9 +411,19 @@ namespace TKR::Parameters
       axial_load_offset   = prm.get_double("Axial load offset");
       ap_spring_stiffness = prm.get_double("AP spring stiffness");
       ie_spring_stiffness = prm.get_double("IE spring stiffness");
-      ml_spring_stiffness = prm.get_double("ML spring stiffness");
-      step_groups         = prm.get_integer("Step groups");
-      rigid_tray          = (prm.get("Tibial tray") == "rigid");
+      ap_spring_range     = prm.get_double("AP spring range");
+      ap_spring_stiffness_beyond =
+        prm.get_double("AP spring stiffness beyond range");
+      ie_spring_range = prm.get_double("IE spring range");
+      ie_spring_stiffness_beyond =
+        prm.get_double("IE spring stiffness beyond range");
+      AssertThrow(ap_spring_stiffness_beyond >= ap_spring_stiffness &&
+                    ie_spring_stiffness_beyond >= ie_spring_stiffness,
+                  ExcInputError("Gait: a spring stiffness beyond range must "
+                                "not be smaller than the one within it."));
+      ml_spring_stiffness        = prm.get_double("ML spring stiffness");
+      step_groups                = prm.get_integer("Step groups");
+      rigid_tray                 = (prm.get("Tibial tray") == "rigid");
       axial_stabilisation_spring = prm.get_double("Axial stabilisation spring");
       pose_tolerance             = prm.get_double("Pose tolerance");
       ap_force_sign              = prm.get_double("AP force sign");

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // This file is part of tkr-wear.
 
+#include <deal.II/base/array_view.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/timer.h>
 
@@ -278,6 +279,22 @@ namespace TKR::Wear
     bool                       pose_converged = false;
     double                     relaxation     = 1.;
     Tensor<1, 3>               previous_correction;
+    InferiorMotion             tibia_motion;
+    // The two-rate restraints' excess force and torque over their inner
+    // rate (which K holds), iterated with the pose. Each update moves them
+    // by the fraction k / k_beyond towards the value at the present
+    // position: a fixed-point iteration whose contraction then holds even
+    // without any help from the contact.
+    const auto  &gait_parameters = parameters.gait;
+    double       restraint_force = 0, restraint_torque = 0;
+    const double force_damping = gait_parameters.ap_spring_stiffness /
+                                 gait_parameters.ap_spring_stiffness_beyond;
+    const double torque_damping = gait_parameters.ie_spring_stiffness /
+                                  gait_parameters.ie_spring_stiffness_beyond;
+    // The rotation tolerance: the pose tolerance at the insert's rim.
+    const double rotation_tolerance =
+      gait_parameters.pose_tolerance /
+      (0.5 * gait_loads->inferior_surface().width) * 180. / numbers::PI;
     for (unsigned int pose_iteration = 0;; ++pose_iteration)
       {
         std::vector<Point<3>> positions = triangulation.get_vertices();
@@ -302,21 +319,36 @@ namespace TKR::Wear
           solver->setup(dirichlet);
         if (state.active.size() != nodes.size())
           state = Contact::ContactState();
-        const Elasticity::BoundaryLoads loads = step_loads(gait, tibia_pose);
-        const double                    initial_distance =
+        const Elasticity::BoundaryLoads loads =
+          step_loads(gait, tibia_pose, restraint_force, restraint_torque);
+        const double initial_distance =
           parameters.contact_solver.initial_contact_distance;
         statistics =
           solver ? solver->solve(mapping, loads, initial_distance, state) :
                    condensed->solve(mapping, loads, initial_distance, state);
         newton_iterations += statistics.newton_iterations;
 
-        // The rigid part of the tibia's displacement: its mean over the
-        // inferior surface, far from the contact's local deformation.
-        const Tensor<1, 3> mean = mean_inferior_displacement();
-        pose_converged          = mean.norm() <= parameters.gait.pose_tolerance;
+        // The rigid part of the tibia's displacement (on its inferior
+        // surface) moves the pose; the restraints follow the position.
+        tibia_motion            = inferior_motion();
+        const Tensor<1, 3> mean = tibia_motion.mean;
+        const double       force_change =
+          gait_loads->ap_restraint_excess(tibia_pose[1] + mean[1]) -
+          restraint_force;
+        const double torque_change =
+          gait_loads->ie_restraint_excess(tibia_motion.rotation_z) -
+          restraint_torque;
+        pose_converged =
+          mean.norm() <= gait_parameters.pose_tolerance &&
+          std::abs(force_change) <= gait_parameters.ap_spring_stiffness_beyond *
+                                      gait_parameters.pose_tolerance &&
+          std::abs(torque_change) <=
+            gait_parameters.ie_spring_stiffness_beyond * rotation_tolerance;
         if (!statistics.converged || pose_converged ||
             pose_iteration + 1 >= max_pose_iterations)
           break;
+        restraint_force += force_damping * force_change;
+        restraint_torque += torque_damping * torque_change;
         // A correction that reverses the previous one means the fixed-point
         // iteration overshoots: relax it.
         if (mean * previous_correction < 0)
@@ -340,6 +372,7 @@ namespace TKR::Wear
     report.newton_iterations = newton_iterations;
     report.pose_updates      = n_pose_updates;
     report.tibia_pose        = tibia_pose;
+    report.ie_rotation       = tibia_motion.rotation_z;
     report.max_pressure      = statistics.max_pressure;
     report.contact_force     = statistics.contact_force.norm();
     report.contact_area      = statistics.contact_area;
@@ -348,9 +381,11 @@ namespace TKR::Wear
     report.wall_time         = step_timer.wall_time();
     if (groups.n_groups == 1)
       print_step(step);
+    // The step's VTU needs the slip to the next step: it is written after
+    // the cycle (output_results()).
     if (parameters.output.vtu_interval > 0 &&
         step % parameters.output.vtu_interval == 0)
-      output_step(step, motion);
+      saved_steps[step] = {elasticity.get_solution(), state, motion};
   }
 
   // The loads of a gait step on the tibia in its pose: the gait's
@@ -361,34 +396,44 @@ namespace TKR::Wear
   // converges. The springs are the same in every step.
   Elasticity::BoundaryLoads
   WearProblem::step_loads(const Gait::GaitState &gait,
-                          const Tensor<1, 3>    &pose) const
+                          const Tensor<1, 3>    &pose,
+                          const double           restraint_force,
+                          const double           restraint_torque) const
   {
     Elasticity::BoundaryLoads loads = gait_loads->loads(gait);
     Tensor<2, 3>              axial_spring;
     axial_spring[2][2] =
       parameters.gait.axial_stabilisation_spring / gait_loads->inferior_area();
-    const auto id             = Mesh::BoundaryIds::tibia_inferior;
-    loads.springs[id]         = axial_spring;
-    const auto springs        = loads.spring_fields.at(id);
-    const auto tractions      = loads.traction_fields.at(id);
+    const auto id        = Mesh::BoundaryIds::tibia_inferior;
+    loads.springs[id]    = axial_spring;
+    const auto springs   = loads.spring_fields.at(id);
+    const auto tractions = loads.traction_fields.at(id);
+    const auto restraint =
+      gait_loads->restraint_traction(restraint_force, restraint_torque);
     loads.traction_fields[id] = [=](const Point<3> &x) {
-      return tractions(x) - springs(x) * pose;
+      return tractions(x) - springs(x) * pose + restraint(x);
     };
     return loads;
   }
 
-  Tensor<1, 3>
-  WearProblem::mean_inferior_displacement() const
+  // The rigid part of the tibia's displacement, measured on its inferior
+  // surface (far from the contact's local deformation): the mean
+  // displacement, and the rotation about z that fits it best,
+  // theta = int (dx u_y - dy u_x) / int (dx^2 + dy^2) about the centroid.
+  InferiorMotion
+  WearProblem::inferior_motion() const
   {
     const auto                      &dof_handler = elasticity.get_dof_handler();
     FEFaceValues<3>                  fe_face_values(mapping,
                                    dof_handler.get_fe(),
                                    QGauss<2>(2),
-                                   update_values | update_JxW_values);
+                                   update_values | update_quadrature_points |
+                                     update_JxW_values);
     std::vector<Tensor<1, 3>>        values(fe_face_values.n_quadrature_points);
     const FEValuesExtractors::Vector displacement(0);
-    Tensor<1, 3>                     integral;
-    double                           area = 0;
+    const Point<3>                  &c = gait_loads->inferior_centroid();
+    // integral of u (3), of the rotation's numerator, and the area.
+    std::array<double, 5> integrals{};
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         for (const auto f : cell->face_indices())
@@ -401,13 +446,25 @@ namespace TKR::Wear
               for (const unsigned int q :
                    fe_face_values.quadrature_point_indices())
                 {
-                  integral += values[q] * fe_face_values.JxW(q);
-                  area += fe_face_values.JxW(q);
+                  const double    JxW = fe_face_values.JxW(q);
+                  const Point<3> &x   = fe_face_values.quadrature_point(q);
+                  for (unsigned int d = 0; d < 3; ++d)
+                    integrals[d] += values[q][d] * JxW;
+                  integrals[3] += ((x[0] - c[0]) * values[q][1] -
+                                   (x[1] - c[1]) * values[q][0]) *
+                                  JxW;
+                  integrals[4] += JxW;
                 }
             }
-    integral = Utilities::MPI::sum(integral, groups.communicator);
-    area     = Utilities::MPI::sum(area, groups.communicator);
-    return integral / area;
+    Utilities::MPI::sum(ArrayView<const double>(integrals.data(), 5),
+                        groups.communicator,
+                        ArrayView<double>(integrals.data(), 5));
+    InferiorMotion motion;
+    for (unsigned int d = 0; d < 3; ++d)
+      motion.mean[d] = integrals[d] / integrals[4];
+    motion.rotation_z =
+      integrals[3] / gait_loads->inferior_surface().J * 180. / numbers::PI;
+    return motion;
   }
 
   // The meshes' facets may leave the bodies overlapping slightly; more than
@@ -458,7 +515,7 @@ namespace TKR::Wear
     TimerOutput::Scope  scope(timer, "collect steps");
     const unsigned int  n          = coupling->slave_nodes().size();
     const unsigned int  per_record = 12 + 10 * n;
-    const unsigned int  per_report = 11;
+    const unsigned int  per_report = 13;
     std::vector<double> data(n_steps * (per_record + per_report), 0.);
     for (unsigned int step = groups.index; step < n_steps;
          step += groups.n_groups)
@@ -494,7 +551,9 @@ namespace TKR::Wear
                                    p.max_pressure,
                                    p.contact_force,
                                    p.contact_area,
-                                   p.converged ? 1. : 0.})
+                                   p.converged ? 1. : 0.,
+                                   p.tibia_pose[1],
+                                   p.ie_rotation})
           *d++ = value;
       }
     const int ierr = MPI_Allreduce(MPI_IN_PLACE,
@@ -542,6 +601,8 @@ namespace TKR::Wear
         p.contact_force     = d[8];
         p.contact_area      = d[9];
         p.converged         = d[10] > 0.5;
+        p.tibia_pose[1]     = d[11];
+        p.ie_rotation       = d[12];
       }
   }
 
@@ -610,21 +671,38 @@ namespace TKR::Wear
     summary.set("converged", n_converged == n_steps);
   }
 
+  // A step's VTU: the contact state, the motion of every point in the
+  // global frame (the femur's elastic displacement is stored in its
+  // co-rotated frame: ParaView's "warp by vector" with it shows the femur
+  // in its flexed position), and the slip and wear of each tibia node over
+  // the interval to the next step.
   void
-  WearProblem::output_step(const unsigned int step, const RigidMotion &motion)
+  WearProblem::output_step(const unsigned int step)
   {
-    TimerOutput::Scope   scope(timer, "output");
-    const auto          &dof_handler = elasticity.get_dof_handler();
+    const SavedStep   &saved       = saved_steps.at(step);
+    const RigidMotion &motion      = saved.motion;
+    const auto        &dof_handler = elasticity.get_dof_handler();
+    elasticity.set_solution(saved.solution);
     const Vector<double> contact =
       Output::surface_fields(*slave,
-                             {state.pressure,
-                              state.gap,
-                              std::vector<double>(state.active.begin(),
-                                                  state.active.end())},
+                             {saved.state.pressure,
+                              saved.state.gap,
+                              std::vector<double>(saved.state.active.begin(),
+                                                  saved.state.active.end())},
                              dof_handler.n_dofs());
-    // The motion of every point in the global frame (the femur's elastic
-    // displacement is stored in its co-rotated frame): ParaView's "warp by
-    // vector" with it shows the femur in its flexed position.
+    std::vector<double>       slip;
+    const std::vector<double> depth =
+      interval_wear_depth(records[step],
+                          records[(step + 1) % n_steps],
+                          1e-3 * parameters.wear.wear_coefficient,
+                          &slip);
+    std::vector<double> depth_pm(depth.size());
+    for (unsigned int j = 0; j < depth.size(); ++j)
+      depth_pm[j] = 1e9 * depth[j];
+    const Vector<double> interval =
+      Output::surface_fields(*slave,
+                             {slip, depth_pm, {}},
+                             dof_handler.n_dofs());
     Vector<double>                       motion_field(dof_handler.n_dofs());
     std::vector<types::global_dof_index> dofs(3);
     for (const auto &cell : dof_handler.active_cell_iterators())
@@ -635,7 +713,7 @@ namespace TKR::Wear
             for (unsigned int c = 0; c < 3; ++c)
               {
                 dofs[c] = cell->vertex_dof_index(v, c);
-                u[c]    = elasticity.get_solution()[dofs[c]];
+                u[c]    = saved.solution[dofs[c]];
               }
             const Point<3>    &X = cell->vertex(v);
             const Tensor<1, 3> d =
@@ -657,6 +735,11 @@ namespace TKR::Wear
                                                           "gap",
                                                           "active"},
                                  DataOut<3>::type_dof_data);
+        data_out.add_data_vector(interval,
+                                 std::vector<std::string>{"slip_to_next_mm",
+                                                          "wear_to_next_pm",
+                                                          "unused"},
+                                 DataOut<3>::type_dof_data);
         data_out.add_data_vector(
           motion_field,
           std::vector<std::string>(3, "motion"),
@@ -671,12 +754,15 @@ namespace TKR::Wear
   WearProblem::output_results()
   {
     TimerOutput::Scope scope(timer, "output");
+    for (const auto &saved : saved_steps)
+      output_step(saved.first);
     if (Utilities::MPI::this_mpi_process(world) == 0)
       {
         std::ofstream csv(parameters.output.directory + "/steps.csv");
         csv << "step,percent,flexion_deg,axial_force_N,ap_force_N,"
                "ie_torque_Nm,active_nodes,newton_iterations,max_pressure_MPa,"
-               "contact_force_N,contact_area_mm2,converged\n";
+               "contact_force_N,contact_area_mm2,converged,ap_position_mm,"
+               "ie_rotation_deg\n";
         for (unsigned int i = 0; i < n_steps; ++i)
           {
             const StepReport &r = reports[i];
@@ -684,7 +770,8 @@ namespace TKR::Wear
                 << r.axial_force << ',' << r.ap_force << ',' << r.ie_torque
                 << ',' << r.active_nodes << ',' << r.newton_iterations << ','
                 << r.max_pressure << ',' << r.contact_force << ','
-                << r.contact_area << ',' << r.converged << '\n';
+                << r.contact_area << ',' << r.converged << ','
+                << r.tibia_pose[1] << ',' << r.ie_rotation << '\n';
           }
         std::ofstream history(parameters.output.directory +
                               "/wear_history.csv");

@@ -40,6 +40,10 @@ main()
   gait.ml_spring_stiffness = 10;
   gait.ap_force_sign = gait.ie_torque_sign = 1;
   gait.flexion_axis_point                  = Point<3>(0, -2, 53);
+  gait.ap_spring_range                     = 2.5;
+  gait.ap_spring_stiffness_beyond          = 44;
+  gait.ie_spring_range                     = 6;
+  gait.ie_spring_stiffness_beyond          = 360;
 
   const FE_Q<3>         fe(1);
   const MappingQ1<3>    mapping;
@@ -110,4 +114,44 @@ main()
                                  130.) < 1e-10 * 130.)
               << std::endl;
     }
+  // The two-rate restraints: the linear inner rate (in the springs) plus
+  // the excess give the ISO law, and the excess acts through a traction
+  // with exactly the requested resultants.
+  const Gait::GaitLoads gait_loads(gait, surface);
+  deallog << "two-rate restraint (linear rate + excess):" << std::endl;
+  for (const double d : {1., 4., -4.})
+    deallog << "  AP at " << d
+            << " mm: " << -9.3 * d + gait_loads.ap_restraint_excess(d) << " N"
+            << std::endl;
+  deallog << "  AP at 4 mm = -(9.3 x 2.5 + 44 x 1.5) N to 1e-12: "
+          << yes_no(std::abs(-9.3 * 4 + gait_loads.ap_restraint_excess(4.) +
+                             (9.3 * 2.5 + 44 * 1.5)) < 1e-12 * 89.25)
+          << std::endl;
+  for (const double theta : {5., 10., -10.})
+    deallog << "  IE at " << theta
+            << " deg: " << -130 * theta + gait_loads.ie_restraint_excess(theta)
+            << " N mm" << std::endl;
+  const auto   traction = gait_loads.restraint_traction(-50., 700.);
+  Tensor<1, 3> force, moment;
+  for (const auto &cell : triangulation.active_cell_iterators())
+    for (const auto f : cell->face_indices())
+      if (cell->face(f)->at_boundary() &&
+          cell->face(f)->boundary_id() == Mesh::BoundaryIds::tibia_inferior)
+        {
+          fe_face_values.reinit(cell, f);
+          for (const unsigned int q : fe_face_values.quadrature_point_indices())
+            {
+              const Point<3>    &x = fe_face_values.quadrature_point(q);
+              const Tensor<1, 3> t = traction(x);
+              force += t * fe_face_values.JxW(q);
+              moment += cross_product_3d(x - surface.centroid, t) *
+                        fe_face_values.JxW(q);
+            }
+        }
+  deallog << "  restraint traction: force (0, -50, 0) N and torque 700 N mm "
+             "about z to 1e-10: "
+          << yes_no((force - Tensor<1, 3>({0., -50., 0.})).norm() <
+                      1e-10 * 50 &&
+                    std::abs(moment[2] - 700.) < 1e-10 * 700.)
+          << std::endl;
 }

@@ -66,6 +66,37 @@ namespace TKR::Gait
     Elasticity::BoundaryLoads
     loads(const GaitState &state) const;
 
+    /**
+     * The two-rate restraint law's force beyond its inner, linear rate
+     * (which the springs of loads() carry): the AP force (N, along +y) on
+     * the tibia at an AP translation @p d (mm), zero within the AP spring
+     * range, -(k_beyond - k) (|d| - range) sign(d) outside.
+     */
+    double
+    ap_restraint_excess(const double d) const;
+
+    /**
+     * The same for the IE restraint: the torque about +z (N mm) at a
+     * rotation @p theta about +z (deg).
+     */
+    double
+    ie_restraint_excess(const double theta) const;
+
+    /**
+     * A traction on `tibia_inferior` with the resultant force @p force_y
+     * along +y through the centroid and the torque @p torque_z about +z
+     * (N, N mm), distributed as the AP force and the IE torque are.
+     */
+    Elasticity::BoundaryLoads::TractionField
+    restraint_traction(const double force_y, const double torque_z) const;
+
+    /** The measures of the inferior surface. */
+    const InferiorSurface &
+    inferior_surface() const
+    {
+      return surface;
+    }
+
     /** The femur's rotation for the flexion angle of @p state. */
     dealii::Tensor<2, 3>
     femur_rotation(const GaitState &state) const;

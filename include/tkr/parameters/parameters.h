@@ -149,6 +149,12 @@ namespace TKR::Parameters
     double axial_load_offset;
     /** Restraint springs: AP and ML in N/mm, IE in N mm/deg. */
     double ap_spring_stiffness, ie_spring_stiffness, ml_spring_stiffness;
+    /**
+     * Two-rate restraint law: the stiffnesses above within +- the range
+     * (mm, deg), these beyond (N/mm, N mm/deg).
+     */
+    double ap_spring_range, ap_spring_stiffness_beyond;
+    double ie_spring_range, ie_spring_stiffness_beyond;
     /** Sign applied to the tabulated AP force and IE torque. */
     double ap_force_sign, ie_torque_sign;
     /**

@@ -60,6 +60,19 @@ namespace TKR::Wear
                    const RigidMotion            &femur_motion);
 
   /**
+   * The wear depth (mm) of every node over the interval from step @p a to
+   * step @p b (the trapezoidal rule of cycle_wear_depth()); @p slip (if
+   * given) gets each node's slip over the interval (mm; the mean of the
+   * slips from the points touched at both ends, or the one where the node
+   * touched, zero where it touched at neither).
+   */
+  std::vector<double>
+  interval_wear_depth(const StepRecord    &a,
+                      const StepRecord    &b,
+                      const double         k,
+                      std::vector<double> *slip = nullptr);
+
+  /**
    * Archard's law dh/dt = k p |v_t| integrated over one periodic cycle of
    * steps with the trapezoidal rule. Between steps i and i+1 (the last step
    * followed by the first) the femur point that node j touches at step i

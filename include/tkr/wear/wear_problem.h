@@ -24,6 +24,7 @@
 #include <tkr/parameters/parameters.h>
 #include <tkr/wear/archard.h>
 
+#include <map>
 #include <memory>
 
 namespace TKR::Wear
@@ -36,11 +37,22 @@ namespace TKR::Wear
     unsigned int active_nodes = 0, newton_iterations = 0, pose_updates = 0;
     /** The tibia's rigid translation (pose) in this step, mm. */
     dealii::Tensor<1, 3> tibia_pose;
-    double               max_pressure = 0, contact_force = 0, contact_area = 0;
-    bool                 converged = false;
+    /** The tibia's rotation about +z (IE, deg). */
+    double ie_rotation  = 0;
+    double max_pressure = 0, contact_force = 0, contact_area = 0;
+    bool   converged = false;
     /** The pose iteration reached its tolerance. */
     bool   pose_converged = false;
     double wall_time      = 0;
+  };
+
+  /** The rigid part of the tibia's displacement on its inferior surface. */
+  struct InferiorMotion
+  {
+    /** Mean displacement (mm). */
+    dealii::Tensor<1, 3> mean;
+    /** Best-fitting rotation about +z (deg). */
+    double rotation_z = 0;
   };
 
   /**
@@ -107,7 +119,7 @@ namespace TKR::Wear
     void
     compute_wear();
     void
-    output_step(const unsigned int step, const RigidMotion &motion);
+    output_step(const unsigned int step);
     void
     output_results();
     void
@@ -116,13 +128,19 @@ namespace TKR::Wear
     check_initial_overlap() const;
     void
     add_tray_constraints();
-    /** Loads of a step on the tibia translated by @p pose (mm). */
+    /**
+     * Loads of a step on the tibia translated by @p pose (mm), with the
+     * two-rate restraints' excess force (N, along y) and torque (N mm,
+     * about z).
+     */
     Elasticity::BoundaryLoads
     step_loads(const Gait::GaitState      &gait,
-               const dealii::Tensor<1, 3> &pose) const;
-    /** Mean displacement of the tibia's inferior surface (mm). */
-    dealii::Tensor<1, 3>
-    mean_inferior_displacement() const;
+               const dealii::Tensor<1, 3> &pose,
+               const double                restraint_force  = 0,
+               const double                restraint_torque = 0) const;
+    /** The rigid part of the tibia's displacement. */
+    InferiorMotion
+    inferior_motion() const;
 
     const Parameters::AllParameters &parameters;
     const MPI_Comm                   world;
@@ -152,7 +170,16 @@ namespace TKR::Wear
     std::vector<StepReport>            reports;
     std::vector<double>                wear_depth, slip;
     std::unique_ptr<Output::VtuSeries> step_series;
-    Output::Summary                    summary;
+    /** What the VTU of a step needs (its solution, state and motion). */
+    struct SavedStep
+    {
+      dealii::TrilinosWrappers::MPI::Vector solution;
+      Contact::ContactState                 state;
+      RigidMotion                           motion;
+    };
+    /** The steps of this group to be written as VTU after the cycle. */
+    std::map<unsigned int, SavedStep> saved_steps;
+    Output::Summary                   summary;
   };
 } // namespace TKR::Wear
 
