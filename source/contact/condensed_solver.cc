@@ -67,7 +67,47 @@ namespace TKR::Contact
     slave_columns.assign(coupling.slave_surface().nodes().size(), {});
     slave_column_normals.assign(slave_columns.size(), Tensor<1, 3>());
     master_columns.assign(coupling.master_surface().nodes().size(), {});
+    slave_observations.assign(slave_columns.size(), {});
+    master_observations.assign(master_columns.size(), {});
     n_stored_columns = 0;
+  }
+
+  unsigned int
+  CondensedActiveSetSolver::add_observation(
+    const TrilinosWrappers::MPI::Vector &weights)
+  {
+    for (const auto &line : dirichlet.get_lines())
+      AssertThrow(line.inhomogeneity == 0.,
+                  ExcMessage("Observations need homogeneous constraints."));
+    observation_weights.push_back(weights);
+    for (auto &column : slave_columns)
+      column.clear();
+    for (auto &column : master_columns)
+      column.clear();
+    n_stored_columns = 0;
+    return observation_weights.size() - 1;
+  }
+
+  std::vector<double>
+  CondensedActiveSetSolver::observe(const Epetra_MultiVector &X) const
+  {
+    const unsigned int  n_observations = observation_weights.size();
+    std::vector<double> values(X.NumVectors() * n_observations, 0.);
+    for (unsigned int m = 0; m < n_observations; ++m)
+      {
+        const Epetra_MultiVector &w = observation_weights[m].trilinos_vector();
+        for (int c = 0; c < X.NumVectors(); ++c)
+          for (int i = 0; i < X.MyLength(); ++i)
+            values[c * n_observations + m] += w[0][i] * X[c][i];
+      }
+    const int ierr = MPI_Allreduce(MPI_IN_PLACE,
+                                   values.data(),
+                                   values.size(),
+                                   MPI_DOUBLE,
+                                   MPI_SUM,
+                                   mpi_communicator);
+    AssertThrowMPI(ierr);
+    return values;
   }
 
   // A unit load on a constrained DoF acts on the DoFs it depends on (the
@@ -162,7 +202,9 @@ namespace TKR::Contact
               add_load(B, c, master_nodes[node].dofs[d], 1.);
           }
         direct_solver.solve(X, B);
-        const std::vector<double> values = read_surface(X, false);
+        const std::vector<double> values         = read_surface(X, false);
+        const std::vector<double> observations   = observe(X);
+        const unsigned int        n_observations = observation_weights.size();
         for (unsigned int c = 0; c < n_columns; ++c)
           {
             const auto [node, d] = loads[start + c];
@@ -187,10 +229,14 @@ namespace TKR::Contact
                           "couples the tibia_contact and femur_contact "
                           "surfaces. Use Contact solver/Solver = active "
                           "set."));
+            const double *observed_values = &observations[c * n_observations];
             if (is_slave)
               {
                 slave_columns[node].assign(own, own + n_own);
                 slave_column_normals[node] = nodes[node].normal;
+                slave_observations[node].assign(observed_values,
+                                                observed_values +
+                                                  n_observations);
               }
             else
               {
@@ -199,6 +245,11 @@ namespace TKR::Contact
                 std::copy(own,
                           own + n_own,
                           stored.begin() + d * n_master_values);
+                auto &stored_observations = master_observations[node];
+                stored_observations.resize(3 * n_observations);
+                std::copy(observed_values,
+                          observed_values + n_observations,
+                          stored_observations.begin() + d * n_observations);
               }
           }
         n_stored_columns += n_columns;
@@ -227,10 +278,18 @@ namespace TKR::Contact
     TrilinosWrappers::MPI::Vector f = elasticity.get_system_rhs();
     f += dirichlet_rhs;
     TrilinosWrappers::MPI::Vector u0(f);
+    ContactStatistics             statistics;
     {
       TimerOutput::Scope scope(timer, "direct solve");
       direct_solver.solve(u0.trilinos_vector(), f.trilinos_vector());
+      // The accuracy of the factorisation; the rest is dense algebra on
+      // its columns.
+      TrilinosWrappers::MPI::Vector residual(f);
+      statistics.relative_residual =
+        elasticity.get_system_matrix().residual(residual, u0, f) /
+        std::max(f.l2_norm(), std::numeric_limits<double>::min());
     }
+    const std::vector<double> u0_observations = observe(u0.trilinos_vector());
     dirichlet.distribute(u0);
     const std::vector<double> u0_surface =
       read_surface(u0.trilinos_vector(), true);
@@ -252,7 +311,6 @@ namespace TKR::Contact
 
     start_state(coupling, initial_distance, state);
 
-    ContactStatistics   statistics;
     ActiveSetUpdate     active_set_update(pcout, slave_youngs_modulus);
     const unsigned int  n_columns_before = n_stored_columns;
     std::vector<double> u_surface;
@@ -375,48 +433,63 @@ namespace TKR::Contact
         active_set_update.update(coupling, state);
       }
 
-    // The full displacement for the final multipliers:
-    // u = K^{-1} (f - B^T lambda).
-    {
-      TimerOutput::Scope  scope(timer, "direct solve");
-      const auto         &slave_nodes  = coupling.slave_surface().nodes();
-      const auto         &master_nodes = coupling.master_surface().nodes();
-      Epetra_MultiVector &b            = f.trilinos_vector();
-      for (unsigned int j = 0; j < n_slave; ++j)
-        if (state.active[j])
-          {
-            const double force = state.pressure[j] * nodes[j].D;
-            for (unsigned int e = 0; e < 3; ++e)
-              add_load(b,
-                       0,
-                       slave_nodes[j].dofs[e],
-                       -force * nodes[j].normal[e]);
-            for (const auto &[k, M] : nodes[j].M)
-              for (unsigned int e = 0; e < 3; ++e)
-                add_load(b,
-                         0,
-                         master_nodes[k].dofs[e],
-                         force / nodes[j].D * M * nodes[j].master_normal[e]);
-          }
-      TrilinosWrappers::MPI::Vector u(f);
-      direct_solver.solve(u.trilinos_vector(), f.trilinos_vector());
-      TrilinosWrappers::MPI::Vector residual(f);
-      const double                  relative_residual =
-        elasticity.get_system_matrix().residual(residual, u, f) /
-        std::max(f.l2_norm(), std::numeric_limits<double>::min());
-      statistics.relative_residual = relative_residual;
-      statistics.converged =
-        statistics.converged && relative_residual <= parameters.tolerance;
-      dirichlet.distribute(u);
-      elasticity.set_solution(u);
-      const std::vector<double> u_final =
-        read_surface(u.trilinos_vector(), true);
-      for (unsigned int j = 0; j < n_slave; ++j)
-        for (unsigned int e = 0; e < 3; ++e)
-          state.displacement[j][e] = u_final[3 * j + e];
-    }
+    statistics.converged = statistics.converged &&
+                           statistics.relative_residual <= parameters.tolerance;
+    for (unsigned int j = 0; j < n_slave; ++j)
+      for (unsigned int e = 0; e < 3; ++e)
+        state.displacement[j][e] = u_surface[3 * j + e];
+    // The observed functionals: w . u = w . u_0 - sum_i lambda_i w . z_i.
+    const unsigned int n_observations = observation_weights.size();
+    observed                          = u0_observations;
+    for (unsigned int j = 0; j < n_slave; ++j)
+      if (state.active[j])
+        {
+          const double lambda = state.pressure[j];
+          for (unsigned int m = 0; m < n_observations; ++m)
+            {
+              double w_z = nodes[j].D * slave_observations[j][m];
+              for (const auto &[k, M] : nodes[j].M)
+                for (unsigned int d = 0; d < 3; ++d)
+                  w_z -= M * nodes[j].master_normal[d] *
+                         master_observations[k][d * n_observations + m];
+              observed[m] -= lambda * w_z;
+            }
+        }
+    last_rhs                     = f;
+    last_state                   = state;
     statistics.linear_iterations = n_stored_columns - n_columns_before;
     add_contact_results(coupling, state, statistics);
     return statistics;
+  }
+  // u = K^{-1} (f - B^T lambda) for the multipliers of the last solve.
+  void
+  CondensedActiveSetSolver::compute_solution()
+  {
+    TimerOutput::Scope scope(timer, "direct solve");
+    const auto        &nodes        = coupling.slave_nodes();
+    const auto        &slave_nodes  = coupling.slave_surface().nodes();
+    const auto        &master_nodes = coupling.master_surface().nodes();
+    TrilinosWrappers::MPI::Vector f = last_rhs;
+    Epetra_MultiVector           &b = f.trilinos_vector();
+    for (unsigned int j = 0; j < nodes.size(); ++j)
+      if (last_state.active[j])
+        {
+          const double pressure = last_state.pressure[j];
+          for (unsigned int e = 0; e < 3; ++e)
+            add_load(b,
+                     0,
+                     slave_nodes[j].dofs[e],
+                     -pressure * nodes[j].D * nodes[j].normal[e]);
+          for (const auto &[k, M] : nodes[j].M)
+            for (unsigned int e = 0; e < 3; ++e)
+              add_load(b,
+                       0,
+                       master_nodes[k].dofs[e],
+                       pressure * M * nodes[j].master_normal[e]);
+        }
+    TrilinosWrappers::MPI::Vector u(f);
+    direct_solver.solve(u.trilinos_vector(), f.trilinos_vector());
+    dirichlet.distribute(u);
+    elasticity.set_solution(u);
   }
 } // namespace TKR::Contact

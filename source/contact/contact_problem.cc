@@ -252,11 +252,13 @@ namespace TKR::Contact
           pcout,
           timer);
         condensed.factorize(mapping, dirichlet, loads);
-        return condensed.solve(
-          mapping,
-          loads,
-          parameters.contact_solver.initial_contact_distance,
-          state);
+        const ContactStatistics statistics =
+          condensed.solve(mapping,
+                          loads,
+                          parameters.contact_solver.initial_contact_distance,
+                          state);
+        condensed.compute_solution();
+        return statistics;
       }
     pcout << "Contact solve (active set):" << std::endl;
     return solver->solve(mapping,

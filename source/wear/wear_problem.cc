@@ -152,6 +152,31 @@ namespace TKR::Wear
         condensed->factorize(mapping,
                              dirichlet,
                              step_loads(waveform->at(0.), Tensor<1, 3>()));
+        // The rigid part of the tibia's motion (inferior_motion()) as
+        // functionals that every solve evaluates: the work of unit
+        // tractions (mean displacement) and of the torque traction
+        // (best-fitting rotation about z, in degrees).
+        const auto    &surface = gait_loads->inferior_surface();
+        const Point<3> c       = surface.centroid;
+        std::array<Elasticity::BoundaryLoads::TractionField, 4> tractions;
+        for (unsigned int d = 0; d < 3; ++d)
+          tractions[d] = [d, area = surface.area](const Point<3> &) {
+            Tensor<1, 3> t;
+            t[d] = 1. / area;
+            return t;
+          };
+        tractions[3] = [c, J = surface.J](const Point<3> &x) {
+          return Tensor<1, 3>({-(x[1] - c[1]) / J, (x[0] - c[0]) / J, 0.}) *
+                 (180. / numbers::PI);
+        };
+        for (const auto &traction : tractions)
+          {
+            Elasticity::BoundaryLoads functional;
+            functional.traction_fields[Mesh::BoundaryIds::tibia_inferior] =
+              traction;
+            elasticity.assemble_rhs(mapping, dirichlet, functional);
+            condensed->add_observation(elasticity.get_system_rhs());
+          }
         pcout << "Contact solver: condensed active set (sparse LU of the "
                  "stiffness";
         if (!parameters.output.testing)
@@ -330,7 +355,14 @@ namespace TKR::Wear
 
         // The rigid part of the tibia's displacement (on its inferior
         // surface) moves the pose; the restraints follow the position.
-        tibia_motion            = inferior_motion();
+        if (condensed)
+          {
+            for (unsigned int d = 0; d < 3; ++d)
+              tibia_motion.mean[d] = condensed->observation(d);
+            tibia_motion.rotation_z = condensed->observation(3);
+          }
+        else
+          tibia_motion = inferior_motion();
         const Tensor<1, 3> mean = tibia_motion.mean;
         const double       force_change =
           gait_loads->ap_restraint_excess(tibia_pose[1] + mean[1]) -
@@ -385,7 +417,11 @@ namespace TKR::Wear
     // the cycle (output_results()).
     if (parameters.output.vtu_interval > 0 &&
         step % parameters.output.vtu_interval == 0)
-      saved_steps[step] = {elasticity.get_solution(), state, motion};
+      {
+        if (condensed)
+          condensed->compute_solution();
+        saved_steps[step] = {elasticity.get_solution(), state, motion};
+      }
   }
 
   // The loads of a gait step on the tibia in its pose: the gait's

@@ -78,6 +78,32 @@ namespace TKR::Contact
           const double                     initial_distance,
           ContactState                    &state);
 
+    /**
+     * Add a linear functional of the displacement, w . u, that every solve
+     * evaluates from the stored columns (no full solve needed): @p weights
+     * is a right-hand side assembled with the factorised constraints (e.g.
+     * by LinearElasticity::assemble_rhs() for a traction whose work is the
+     * functional), which must be homogeneous. Forgets the stored columns.
+     * Returns the functional's index for observation().
+     */
+    unsigned int
+    add_observation(const dealii::TrilinosWrappers::MPI::Vector &weights);
+
+    /** Value of functional @p i for the displacement of the last solve. */
+    double
+    observation(const unsigned int i) const
+    {
+      return observed.at(i);
+    }
+
+    /**
+     * Put the full displacement of the last solve into the
+     * LinearElasticity object (one more back substitution; solve() itself
+     * computes only the contact surfaces and the observations).
+     */
+    void
+    compute_solution();
+
     /** Number of stored columns of K^{-1} (slave + 3 x master nodes). */
     unsigned int
     n_columns() const
@@ -99,6 +125,11 @@ namespace TKR::Contact
      */
     std::vector<double>
     read_surface(const Epetra_MultiVector &X, const bool distributed) const;
+
+    /** The observations of every column of @p X (column-major, on all ranks).
+     */
+    std::vector<double>
+    observe(const Epetra_MultiVector &X) const;
 
     /** Add @p value at DoF @p dof of column @p c (through constraints). */
     void
@@ -136,6 +167,15 @@ namespace TKR::Contact
      */
     std::vector<std::vector<double>> master_columns;
     unsigned int                     n_stored_columns = 0;
+
+    /** Weights of the observed functionals and their value per column. */
+    std::vector<dealii::TrilinosWrappers::MPI::Vector> observation_weights;
+    std::vector<std::vector<double>> slave_observations, master_observations;
+    /** The functionals' values for the last solve. */
+    std::vector<double> observed;
+    /** Right-hand side and contact state of the last solve. */
+    dealii::TrilinosWrappers::MPI::Vector last_rhs;
+    ContactState                          last_state;
   };
 } // namespace TKR::Contact
 
