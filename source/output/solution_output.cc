@@ -37,12 +37,13 @@ namespace TKR::Output
   }
 
   Vector<double>
-  surface_fields(const Mortar::ContactSurface             &surface,
-                 const std::array<std::vector<double>, 3> &fields,
-                 const unsigned int                        n_dofs)
+  surface_fields(const Mortar::ContactSurface           &surface,
+                 const std::vector<std::vector<double>> &fields,
+                 const unsigned int                      n_dofs)
   {
+    Assert(fields.size() <= 3, ExcMessage("At most three fields per vector."));
     Vector<double> vector(n_dofs);
-    for (unsigned int c = 0; c < 3; ++c)
+    for (unsigned int c = 0; c < fields.size(); ++c)
       for (unsigned int j = 0; j < fields[c].size(); ++j)
         vector(surface.nodes()[j].dofs[c]) = fields[c][j];
     return vector;

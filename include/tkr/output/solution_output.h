@@ -41,9 +41,9 @@ namespace TKR::Output
    * DataOut writes them on the same mesh. Empty fields stay zero.
    */
   dealii::Vector<double>
-  surface_fields(const Mortar::ContactSurface             &surface,
-                 const std::array<std::vector<double>, 3> &fields,
-                 const unsigned int                        n_dofs);
+  surface_fields(const Mortar::ContactSurface           &surface,
+                 const std::vector<std::vector<double>> &fields,
+                 const unsigned int                      n_dofs);
 
   /**
    * End of a run: record the number of MPI ranks and the wall time in
