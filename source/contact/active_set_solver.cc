@@ -3,6 +3,7 @@
 
 #include <deal.II/base/timer.h>
 
+#include <tkr/base/mpi.h>
 #include <tkr/contact/active_set_solver.h>
 
 #include <algorithm>
@@ -242,13 +243,7 @@ namespace TKR::Contact
     for (unsigned int i = 0; i < surface_dofs.size(); ++i)
       if (owned.is_element(surface_dofs[i]))
         values[i] = vector[surface_dofs[i]];
-    const int ierr = MPI_Allreduce(MPI_IN_PLACE,
-                                   values.data(),
-                                   values.size(),
-                                   MPI_DOUBLE,
-                                   MPI_SUM,
-                                   mpi_communicator);
-    AssertThrowMPI(ierr);
+    sum_over_ranks(values, mpi_communicator);
     return values;
   }
 

@@ -6,6 +6,7 @@
 #include <deal.II/lac/lapack_full_matrix.h>
 
 #include <tkr/base/exceptions.h>
+#include <tkr/base/mpi.h>
 #include <tkr/contact/condensed_solver.h>
 
 #include <algorithm>
@@ -100,13 +101,7 @@ namespace TKR::Contact
           for (int i = 0; i < X.MyLength(); ++i)
             values[c * n_observations + m] += w[0][i] * X[c][i];
       }
-    const int ierr = MPI_Allreduce(MPI_IN_PLACE,
-                                   values.data(),
-                                   values.size(),
-                                   MPI_DOUBLE,
-                                   MPI_SUM,
-                                   mpi_communicator);
-    AssertThrowMPI(ierr);
+    sum_over_ranks(values, mpi_communicator);
     return values;
   }
 
@@ -154,13 +149,7 @@ namespace TKR::Contact
           add(k, weight, i);
       else if (!dirichlet.is_constrained(surface_dofs[i]))
         add(surface_dofs[i], 1., i);
-    const int ierr = MPI_Allreduce(MPI_IN_PLACE,
-                                   values.data(),
-                                   values.size(),
-                                   MPI_DOUBLE,
-                                   MPI_SUM,
-                                   mpi_communicator);
-    AssertThrowMPI(ierr);
+    sum_over_ranks(values, mpi_communicator);
     return values;
   }
 

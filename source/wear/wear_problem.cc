@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // This file is part of tkr-wear.
 
-#include <deal.II/base/array_view.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/timer.h>
 
@@ -12,6 +11,7 @@
 #include <tkr/contact/condensed_solver.h>
 
 #include <tkr/base/exceptions.h>
+#include <tkr/base/mpi.h>
 #include <tkr/mesh/mesh.h>
 #include <tkr/output/solution_output.h>
 #include <tkr/wear/wear_problem.h>
@@ -469,7 +469,7 @@ namespace TKR::Wear
     const FEValuesExtractors::Vector displacement(0);
     const Point<3>                  &c = gait_loads->inferior_centroid();
     // integral of u (3), of the rotation's numerator, and the area.
-    std::array<double, 5> integrals{};
+    std::vector<double> integrals(5, 0.);
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         for (const auto f : cell->face_indices())
@@ -492,9 +492,7 @@ namespace TKR::Wear
                   integrals[4] += JxW;
                 }
             }
-    Utilities::MPI::sum(ArrayView<const double>(integrals.data(), 5),
-                        groups.communicator,
-                        ArrayView<double>(integrals.data(), 5));
+    sum_over_ranks(integrals, groups.communicator);
     InferiorMotion motion;
     for (unsigned int d = 0; d < 3; ++d)
       motion.mean[d] = integrals[d] / integrals[4];
@@ -570,13 +568,7 @@ namespace TKR::Wear
                                    double(p.pose_updates)})
           *d++ = value;
       }
-    const int ierr = MPI_Allreduce(MPI_IN_PLACE,
-                                   data.data(),
-                                   data.size(),
-                                   MPI_DOUBLE,
-                                   MPI_SUM,
-                                   world);
-    AssertThrowMPI(ierr);
+    sum_over_ranks(data, world);
 
     for (unsigned int step = 0; step < n_steps; ++step)
       {
