@@ -20,6 +20,34 @@ namespace TKR::Contact
     return std::count(active.begin(), active.end(), true);
   }
 
+  std::vector<types::global_dof_index>
+  surface_dof_indices(const Mortar::MortarCoupling &coupling)
+  {
+    std::vector<types::global_dof_index> dofs;
+    for (const auto *surface :
+         {&coupling.slave_surface(), &coupling.master_surface()})
+      for (const auto &node : surface->nodes())
+        dofs.insert(dofs.end(), node.dofs.begin(), node.dofs.end());
+    return dofs;
+  }
+
+  double
+  apply_mortar_operator(const Mortar::MortarCoupling &coupling,
+                        const unsigned int            j,
+                        const double                 *slave_values,
+                        const double                 *master_values)
+  {
+    const auto  &node = coupling.slave_nodes()[j];
+    Tensor<1, 3> v_master;
+    for (const auto &[k, M] : node.M)
+      for (unsigned int e = 0; e < 3; ++e)
+        v_master[e] += M * master_values[3 * k + e];
+    double result = -node.master_normal * v_master;
+    for (unsigned int e = 0; e < 3; ++e)
+      result += node.D * node.normal[e] * slave_values[3 * j + e];
+    return result;
+  }
+
   std::vector<bool>
   nodes_near_closest(const Mortar::MortarCoupling &coupling,
                      const double                  distance)
@@ -169,15 +197,7 @@ namespace TKR::Contact
     dirichlet.clear();
     dirichlet.copy_from(dirichlet_constraints);
 
-    surface_dofs.clear();
-    for (const auto &node : coupling.slave_surface().nodes())
-      surface_dofs.insert(surface_dofs.end(),
-                          node.dofs.begin(),
-                          node.dofs.end());
-    for (const auto &node : coupling.master_surface().nodes())
-      surface_dofs.insert(surface_dofs.end(),
-                          node.dofs.begin(),
-                          node.dofs.end());
+    surface_dofs = surface_dof_indices(coupling);
 
     // The sparsity pattern must hold the couplings of every node that may
     // become active, so that the matrix can be reused when the set changes.
@@ -296,7 +316,7 @@ namespace TKR::Contact
         for (unsigned int j = 0; j < n_slave; ++j)
           {
             const auto  &node = nodes[j];
-            Tensor<1, 3> r_j, u_j, u_master;
+            Tensor<1, 3> r_j, u_j;
             for (unsigned int e = 0; e < 3; ++e)
               {
                 r_j[e] = r[3 * j + e];
@@ -307,13 +327,11 @@ namespace TKR::Contact
             state.displacement[j] = u_j;
             if (!node.covered)
               continue;
-            for (const auto &[k, M] : node.M)
-              for (unsigned int e = 0; e < 3; ++e)
-                u_master[e] += M * u[master_start + 3 * k + e];
             state.pressure[j] = r_j * node.normal / node.D;
-            state.gap[j] = (node.weighted_gap - node.D * node.normal * u_j +
-                            node.master_normal * u_master) /
-                           node.D;
+            state.gap[j] =
+              (node.weighted_gap -
+               apply_mortar_operator(coupling, j, u.data(), &u[master_start])) /
+              node.D;
           }
 
         const unsigned int n_active = state.n_active();

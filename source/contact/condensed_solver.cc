@@ -54,16 +54,8 @@ namespace TKR::Contact
       direct_solver.factorize(elasticity.get_system_matrix());
     }
 
-    surface_dofs.clear();
-    for (const auto &node : coupling.slave_surface().nodes())
-      surface_dofs.insert(surface_dofs.end(),
-                          node.dofs.begin(),
-                          node.dofs.end());
-    n_slave_values = surface_dofs.size();
-    for (const auto &node : coupling.master_surface().nodes())
-      surface_dofs.insert(surface_dofs.end(),
-                          node.dofs.begin(),
-                          node.dofs.end());
+    surface_dofs    = surface_dof_indices(coupling);
+    n_slave_values  = 3 * coupling.slave_surface().nodes().size();
     n_master_values = surface_dofs.size() - n_slave_values;
     slave_columns.assign(coupling.slave_surface().nodes().size(), {});
     slave_column_normals.assign(slave_columns.size(), Tensor<1, 3>());
@@ -283,19 +275,12 @@ namespace TKR::Contact
     const std::vector<double> u0_surface =
       read_surface(u0.trilinos_vector(), true);
 
-    // B_j applied to surface values v: D_jj n_j . v_j - n^m_j . sum_k M_jk v_k.
-    const auto apply_B = [&](const unsigned int j,
-                             const double      *slave_values,
-                             const double      *master_values) {
-      const auto  &node = nodes[j];
-      Tensor<1, 3> v_master;
-      for (const auto &[k, M] : node.M)
-        for (unsigned int e = 0; e < 3; ++e)
-          v_master[e] += M * master_values[3 * k + e];
-      double result = -node.master_normal * v_master;
-      for (unsigned int e = 0; e < 3; ++e)
-        result += node.D * node.normal[e] * slave_values[3 * j + e];
-      return result;
+    // B_j applied to surface values in the layout of surface_dofs.
+    const auto apply_B = [&](const unsigned int j, const double *values) {
+      return apply_mortar_operator(coupling,
+                                   j,
+                                   values,
+                                   values + n_slave_values);
     };
 
     start_state(coupling, initial_distance, state);
@@ -366,14 +351,9 @@ namespace TKR::Contact
           for (unsigned int a = 0; a < n_active; ++a)
             {
               const unsigned int j = active[a];
-              rhs(a)               = -(nodes[j].weighted_gap -
-                         apply_B(j,
-                                 u0_surface.data(),
-                                 u0_surface.data() + n_slave_values));
+              rhs(a) = -(nodes[j].weighted_gap - apply_B(j, u0_surface.data()));
               for (unsigned int b = 0; b < n_active; ++b)
-                W(a, b) = apply_B(j,
-                                  z[active[b]].data(),
-                                  z[active[b]].data() + n_slave_values);
+                W(a, b) = apply_B(j, z[active[b]].data());
             }
           if (n_active > 0)
             {
@@ -402,11 +382,9 @@ namespace TKR::Contact
             state.pressure[active[a]] = lambda[a];
           for (unsigned int j = 0; j < n_slave; ++j)
             if (nodes[j].covered)
-              state.gap[j] = (nodes[j].weighted_gap -
-                              apply_B(j,
-                                      u_surface.data(),
-                                      u_surface.data() + n_slave_values)) /
-                             nodes[j].D;
+              state.gap[j] =
+                (nodes[j].weighted_gap - apply_B(j, u_surface.data())) /
+                nodes[j].D;
         }
 
         const unsigned int n_changed =

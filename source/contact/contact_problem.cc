@@ -155,16 +155,22 @@ namespace TKR::Contact
           << std::endl;
     check_initial_gaps();
 
-    solver = std::make_unique<ActiveSetSolver>(
-      elasticity,
-      *coupling,
-      parameters.contact_solver,
-      parameters.materials.tibia.youngs_modulus,
-      mpi_communicator,
-      pcout,
-      timer,
-      parameters.output.testing);
-    solver->setup(dirichlet);
+    // The condensed active set and Ipopt set up their own systems.
+    const auto algorithm = parameters.contact_solver.algorithm;
+    if (algorithm == Parameters::ContactAlgorithm::active_set ||
+        algorithm == Parameters::ContactAlgorithm::automatic)
+      {
+        solver = std::make_unique<ActiveSetSolver>(
+          elasticity,
+          *coupling,
+          parameters.contact_solver,
+          parameters.materials.tibia.youngs_modulus,
+          mpi_communicator,
+          pcout,
+          timer,
+          parameters.output.testing);
+        solver->setup(dirichlet);
+      }
   }
 
   // Refuse geometries that cannot work: bodies that overlap, and a loaded

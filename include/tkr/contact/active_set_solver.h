@@ -53,6 +53,25 @@ namespace TKR::Contact
   };
 
   /**
+   * The DoFs of the contact surfaces, three per slave node and then three
+   * per master node: the layout of the surface values that both active-set
+   * solvers work with.
+   */
+  std::vector<dealii::types::global_dof_index>
+  surface_dof_indices(const Mortar::MortarCoupling &coupling);
+
+  /**
+   * The mortar operator of slave node @p j applied to surface values in
+   * that layout, B_j v = D_jj n_j . v_j - n^m_j . sum_k M_jk v^m_k: by how
+   * much a displacement v closes the node's weighted gap.
+   */
+  double
+  apply_mortar_operator(const Mortar::MortarCoupling &coupling,
+                        const unsigned int            j,
+                        const double                 *slave_values,
+                        const double                 *master_values);
+
+  /**
    * The covered slave nodes whose initial (weighted) gap exceeds the
    * smallest one by at most @p distance mm: the initial active set when
    * there is no warm start (for a body held only by contact this closes
