@@ -7,10 +7,10 @@
 #include <deal.II/base/mpi.h>
 
 #include <tkr/base/exceptions.h>
-#include <tkr/contact/contact_problem.h>
-#include <tkr/elasticity/elasticity_problem.h>
 #include <tkr/parameters/parameters.h>
-#include <tkr/wear/wear_problem.h>
+#include <tkr/problems/contact_problem.h>
+#include <tkr/problems/elasticity_problem.h>
+#include <tkr/problems/wear_problem.h>
 
 #include <iostream>
 #include <string>
@@ -39,17 +39,17 @@ namespace
       {
         case Parameters::ProblemType::elasticity:
           {
-            Elasticity::ElasticityProblem problem(parameters, mpi_communicator);
+            Problems::ElasticityProblem problem(parameters, mpi_communicator);
             return problem.run() ? 0 : 1;
           }
         case Parameters::ProblemType::contact:
           {
-            Contact::ContactProblem problem(parameters, mpi_communicator);
+            Problems::ContactProblem problem(parameters, mpi_communicator);
             return problem.run() ? 0 : 1;
           }
         case Parameters::ProblemType::wear:
           {
-            Wear::WearProblem problem(parameters, mpi_communicator);
+            Problems::WearProblem problem(parameters, mpi_communicator);
             return problem.run() ? 0 : 1;
           }
       }

@@ -2,6 +2,7 @@
 // This file is part of tkr-wear.
 
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/mpi.h>
 
 #include <tkr/base/mpi.h>
 
@@ -17,5 +18,30 @@ namespace TKR
                                    MPI_SUM,
                                    communicator);
     AssertThrowMPI(ierr);
+  }
+
+  StepGroups::StepGroups(const MPI_Comm world, const unsigned int requested)
+  {
+    const unsigned int n_ranks = dealii::Utilities::MPI::n_mpi_processes(world);
+    const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(world);
+    n_groups       = (requested == 0 ? n_ranks : std::min(requested, n_ranks));
+    index          = rank * n_groups / n_ranks;
+    const int ierr = MPI_Comm_split(world, index, rank, &communicator);
+    AssertThrowMPI(ierr);
+    is_group_root = dealii::Utilities::MPI::this_mpi_process(communicator) == 0;
+  }
+
+  StepGroups::~StepGroups()
+  {
+    MPI_Comm_free(&communicator);
+  }
+
+  std::vector<unsigned int>
+  StepGroups::own_items(const unsigned int n_items) const
+  {
+    std::vector<unsigned int> items;
+    for (unsigned int i = index; i < n_items; i += n_groups)
+      items.push_back(i);
+    return items;
   }
 } // namespace TKR

@@ -6,172 +6,11 @@
 #include <tkr/base/mpi.h>
 #include <tkr/contact/active_set_solver.h>
 
-#include <algorithm>
 #include <iomanip>
-#include <limits>
 
 namespace TKR::Contact
 {
   using namespace dealii;
-
-  unsigned int
-  ContactState::n_active() const
-  {
-    return std::count(active.begin(), active.end(), true);
-  }
-
-  std::vector<types::global_dof_index>
-  surface_dof_indices(const Mortar::MortarCoupling &coupling)
-  {
-    std::vector<types::global_dof_index> dofs;
-    for (const auto *surface :
-         {&coupling.slave_surface(), &coupling.master_surface()})
-      for (const auto &node : surface->nodes())
-        dofs.insert(dofs.end(), node.dofs.begin(), node.dofs.end());
-    return dofs;
-  }
-
-  double
-  apply_mortar_operator(const Mortar::MortarCoupling &coupling,
-                        const unsigned int            j,
-                        const double                 *slave_values,
-                        const double                 *master_values)
-  {
-    const auto  &node = coupling.slave_nodes()[j];
-    Tensor<1, 3> v_master;
-    for (const auto &[k, M] : node.M)
-      for (unsigned int e = 0; e < 3; ++e)
-        v_master[e] += M * master_values[3 * k + e];
-    double result = -node.master_normal * v_master;
-    for (unsigned int e = 0; e < 3; ++e)
-      result += node.D * node.normal[e] * slave_values[3 * j + e];
-    return result;
-  }
-
-  std::vector<bool>
-  nodes_near_closest(const Mortar::MortarCoupling &coupling,
-                     const double                  distance)
-  {
-    const auto &nodes   = coupling.slave_nodes();
-    double      min_gap = std::numeric_limits<double>::max();
-    for (const auto &node : nodes)
-      if (node.covered)
-        min_gap = std::min(min_gap, node.weighted_gap / node.D);
-    const double      threshold = std::max(min_gap, 0.) + distance;
-    std::vector<bool> near(nodes.size(), false);
-    for (unsigned int j = 0; j < nodes.size(); ++j)
-      near[j] =
-        nodes[j].covered && nodes[j].weighted_gap <= threshold * nodes[j].D;
-    return near;
-  }
-
-  void
-  start_state(const Mortar::MortarCoupling &coupling,
-              const double                  initial_distance,
-              ContactState                 &state)
-  {
-    const auto        &nodes   = coupling.slave_nodes();
-    const unsigned int n_slave = nodes.size();
-    if (state.active.size() != n_slave || state.n_active() == 0)
-      state.active = nodes_near_closest(coupling, initial_distance);
-    else
-      // A warm start from another geometry: only covered nodes may be
-      // active.
-      for (unsigned int j = 0; j < n_slave; ++j)
-        state.active[j] = state.active[j] && nodes[j].covered;
-    state.pressure.assign(n_slave, 0.);
-    state.gap.assign(n_slave, std::numeric_limits<double>::quiet_NaN());
-    state.displacement.assign(n_slave, Tensor<1, 3>());
-  }
-
-  ActiveSetUpdate::ActiveSetUpdate(const ConditionalOStream &pcout,
-                                   const double slave_youngs_modulus)
-    : pcout(pcout)
-    , slave_youngs_modulus(slave_youngs_modulus)
-  {}
-
-  unsigned int
-  ActiveSetUpdate::next_set(const Mortar::MortarCoupling &coupling,
-                            const ContactState           &state,
-                            std::vector<bool>            &next,
-                            std::vector<double>          &violation) const
-  {
-    const auto        &nodes   = coupling.slave_nodes();
-    const unsigned int n_slave = nodes.size();
-    next.assign(n_slave, false);
-    violation.assign(n_slave, 0.);
-    unsigned int n_changed = 0;
-    for (unsigned int j = 0; j < n_slave; ++j)
-      if (nodes[j].covered)
-        {
-          const double lambda = state.pressure[j], gap = state.gap[j];
-          const double c = slave_youngs_modulus / std::sqrt(nodes[j].D);
-          next[j]        = (lambda - c * gap > 0);
-          // How far the node is from satisfying its present status.
-          violation[j] =
-            state.active[j] ? std::max(0., -lambda) : std::max(0., -c * gap);
-        }
-    for (unsigned int j = 0; j < n_slave; ++j)
-      n_changed += (next[j] != state.active[j]);
-    return n_changed;
-  }
-
-  unsigned int
-  ActiveSetUpdate::count_changes(const Mortar::MortarCoupling &coupling,
-                                 const ContactState           &state) const
-  {
-    std::vector<bool>   next;
-    std::vector<double> violation;
-    return next_set(coupling, state, next, violation);
-  }
-
-  unsigned int
-  ActiveSetUpdate::update(const Mortar::MortarCoupling &coupling,
-                          ContactState                 &state)
-  {
-    std::vector<bool>   next;
-    std::vector<double> violation;
-    const unsigned int  n_changed = next_set(coupling, state, next, violation);
-    if (n_changed == 0)
-      return 0;
-
-    history.push_back(state.active);
-    if (std::find(history.begin(), history.end(), next) != history.end())
-      {
-        if (!damped)
-          pcout << "    the active set cycles: damped updates from now on"
-                << std::endl;
-        damped = true;
-      }
-    if (damped)
-      {
-        const unsigned int worst =
-          std::max_element(violation.begin(), violation.end()) -
-          violation.begin();
-        next        = state.active;
-        next[worst] = !next[worst];
-      }
-    state.active = next;
-    return n_changed;
-  }
-
-  void
-  add_contact_results(const Mortar::MortarCoupling &coupling,
-                      const ContactState           &state,
-                      ContactStatistics            &statistics)
-  {
-    const auto &nodes = coupling.slave_nodes();
-    for (unsigned int j = 0; j < nodes.size(); ++j)
-      if (state.active[j])
-        {
-          ++statistics.n_active;
-          statistics.contact_area += nodes[j].D;
-          statistics.contact_force -=
-            state.pressure[j] * nodes[j].D * nodes[j].normal;
-          statistics.max_pressure =
-            std::max(statistics.max_pressure, state.pressure[j]);
-        }
-  }
 
   ActiveSetSolver::ActiveSetSolver(Elasticity::LinearElasticity    &elasticity,
                                    const Mortar::MortarCoupling    &coupling,
@@ -181,73 +20,47 @@ namespace TKR::Contact
                                    const ConditionalOStream &pcout,
                                    TimerOutput              &timer,
                                    const bool                testing)
-    : elasticity(elasticity)
-    , coupling(coupling)
-    , parameters(parameters)
-    , slave_youngs_modulus(slave_youngs_modulus)
-    , mpi_communicator(mpi_communicator)
-    , pcout(pcout)
-    , timer(timer)
+    : ContactSolver(elasticity,
+                    coupling,
+                    parameters,
+                    slave_youngs_modulus,
+                    mpi_communicator,
+                    pcout,
+                    timer)
     , testing(testing)
   {}
 
   void
-  ActiveSetSolver::setup(const AffineConstraints<double> &dirichlet_constraints)
-  {
-    dirichlet.clear();
-    dirichlet.copy_from(dirichlet_constraints);
-
-    surface_dofs = surface_dof_indices(coupling);
-
-    // The sparsity pattern must hold the couplings of every node that may
-    // become active, so that the matrix can be reused when the set changes.
-    std::vector<bool> all_covered(coupling.slave_nodes().size());
-    for (unsigned int j = 0; j < all_covered.size(); ++j)
-      all_covered[j] = coupling.slave_nodes()[j].covered;
-    AffineConstraints<double> constraints;
-    make_constraints(all_covered, constraints);
-    elasticity.setup_system(constraints);
-  }
-
-  // The mortar condition of node j, n_j . (sum_k M_jk u_k - D_jj u_j) = -g_j,
-  // solved for the component d in which n_j is largest:
-  // u_jd = sum_{e != d} (-n_je/n_jd) u_je
-  //        + sum_k sum_e M_jk n_je / (D_jj n_jd) u_ke + g_j / (D_jj n_jd).
-  void
   ActiveSetSolver::make_constraints(
-    const std::vector<bool>   &active,
-    AffineConstraints<double> &constraints) const
+    const Mortar::MortarOperator &B,
+    const std::vector<bool>      &active,
+    AffineConstraints<double>    &constraints) const
   {
     constraints.clear();
-    const auto &nodes        = coupling.slave_nodes();
-    const auto &slave_nodes  = coupling.slave_surface().nodes();
-    const auto &master_nodes = coupling.master_surface().nodes();
+    const auto &nodes = coupling.slave_nodes();
+    const auto &dofs  = B.surface_dofs();
     for (unsigned int j = 0; j < nodes.size(); ++j)
       {
         if (!active[j])
           continue;
-        const auto        &node = nodes[j];
-        const auto        &dofs = slave_nodes[j].dofs;
-        const Tensor<1, 3> n    = node.normal;
-        unsigned int       d    = 0;
+        const Tensor<1, 3> &n = nodes[j].normal;
+        unsigned int        d = 0;
         for (unsigned int e = 1; e < 3; ++e)
           if (std::abs(n[e]) > std::abs(n[d]))
             d = e;
-        if (dirichlet.is_constrained(dofs[d]))
+        const unsigned int pivot_column = 3 * j + d;
+        const auto         dof          = dofs[pivot_column];
+        if (dirichlet.is_constrained(dof))
           continue;
-        const double scale = 1. / (node.D * n[d]);
-        constraints.add_line(dofs[d]);
-        for (unsigned int e = 0; e < 3; ++e)
-          if (e != d)
-            constraints.add_entry(dofs[d], dofs[e], -n[e] / n[d]);
-        const Tensor<1, 3> n_master = node.master_normal;
-        for (const auto &[k, M] : node.M)
-          for (unsigned int e = 0; e < 3; ++e)
-            if (M * n_master[e] != 0.)
-              constraints.add_entry(dofs[d],
-                                    master_nodes[k].dofs[e],
-                                    M * n_master[e] * scale);
-        constraints.set_inhomogeneity(dofs[d], node.weighted_gap * scale);
+        double pivot = 0;
+        for (auto e = B.begin(j); e != B.end(j); ++e)
+          if (e->column == pivot_column)
+            pivot = e->value;
+        constraints.add_line(dof);
+        for (auto e = B.begin(j); e != B.end(j); ++e)
+          if (e->column != pivot_column)
+            constraints.add_entry(dof, dofs[e->column], -e->value / pivot);
+        constraints.set_inhomogeneity(dof, nodes[j].weighted_gap / pivot);
       }
     constraints.merge(dirichlet,
                       AffineConstraints<double>::no_conflicts_allowed,
@@ -256,13 +69,15 @@ namespace TKR::Contact
   }
 
   std::vector<double>
-  ActiveSetSolver::gather(const TrilinosWrappers::MPI::Vector &vector) const
+  ActiveSetSolver::gather(const Mortar::MortarOperator        &B,
+                          const TrilinosWrappers::MPI::Vector &vector) const
   {
-    std::vector<double> values(surface_dofs.size(), 0.);
+    const auto         &dofs = B.surface_dofs();
+    std::vector<double> values(dofs.size(), 0.);
     const IndexSet     &owned = vector.locally_owned_elements();
-    for (unsigned int i = 0; i < surface_dofs.size(); ++i)
-      if (owned.is_element(surface_dofs[i]))
-        values[i] = vector[surface_dofs[i]];
+    for (unsigned int i = 0; i < dofs.size(); ++i)
+      if (owned.is_element(dofs[i]))
+        values[i] = vector[dofs[i]];
     sum_over_ranks(values, mpi_communicator);
     return values;
   }
@@ -273,9 +88,20 @@ namespace TKR::Contact
                          const double                     initial_distance,
                          ContactState                    &state)
   {
-    const auto        &nodes        = coupling.slave_nodes();
-    const unsigned int n_slave      = nodes.size();
-    const unsigned int master_start = 3 * n_slave;
+    const auto                  &nodes   = coupling.slave_nodes();
+    const unsigned int           n_slave = nodes.size();
+    const Mortar::MortarOperator B(coupling);
+
+    // The sparsity pattern holds the couplings of every node that may
+    // become active, so that the matrix can be reused when the set changes.
+    {
+      std::vector<bool> all_covered(n_slave);
+      for (unsigned int j = 0; j < n_slave; ++j)
+        all_covered[j] = nodes[j].covered;
+      AffineConstraints<double> constraints;
+      make_constraints(B, all_covered, constraints);
+      elasticity.setup_system(constraints);
+    }
 
     start_state(coupling, initial_distance, state);
 
@@ -291,7 +117,7 @@ namespace TKR::Contact
          ++iteration)
       {
         Timer iteration_timer;
-        make_constraints(state.active, constraints);
+        make_constraints(B, state.active, constraints);
         elasticity.assemble_system(mapping, constraints, loads);
         const bool fresh_preconditioner = rebuild_preconditioner;
         // The AMG hierarchy of the first iteration stays a good
@@ -303,35 +129,29 @@ namespace TKR::Contact
             rebuild_preconditioner = false;
           }
         const auto linear = elasticity.solve(constraints);
-        statistics.linear_iterations += linear.iterations;
+        statistics.cg_iterations += linear.iterations;
         statistics.relative_residual = linear.relative_residual;
         statistics.newton_iterations = iteration;
 
         elasticity.compute_residual(mapping, loads, residual);
-        const std::vector<double> r = gather(residual);
-        const std::vector<double> u = gather(elasticity.get_solution());
+        const std::vector<double> r = gather(B, residual);
+        const std::vector<double> u = gather(B, elasticity.get_solution());
 
         // Multipliers lambda_j = r_j . n_j / D_jj and gaps after
-        // deformation.
+        // deformation. Every slave node's displacement is kept (the wear's
+        // slip needs it also where the node is out of reach of the master).
         for (unsigned int j = 0; j < n_slave; ++j)
           {
-            const auto  &node = nodes[j];
-            Tensor<1, 3> r_j, u_j;
+            Tensor<1, 3> r_j;
             for (unsigned int e = 0; e < 3; ++e)
               {
-                r_j[e] = r[3 * j + e];
-                u_j[e] = u[3 * j + e];
+                r_j[e]                   = r[3 * j + e];
+                state.displacement[j][e] = u[3 * j + e];
               }
-            // Every slave node's displacement (the wear's slip needs it
-            // also where the node is out of reach of the master).
-            state.displacement[j] = u_j;
-            if (!node.covered)
+            if (!nodes[j].covered)
               continue;
-            state.pressure[j] = r_j * node.normal / node.D;
-            state.gap[j] =
-              (node.weighted_gap -
-               apply_mortar_operator(coupling, j, u.data(), &u[master_start])) /
-              node.D;
+            state.pressure[j] = r_j * nodes[j].normal / nodes[j].D;
+            state.gap[j]      = B.gap(j, u.data());
           }
 
         const unsigned int n_active = state.n_active();
@@ -388,6 +208,7 @@ namespace TKR::Contact
         active_set_update.update(coupling, state);
       }
 
+    observe_solution();
     add_contact_results(coupling, state, statistics);
     return statistics;
   }

@@ -17,32 +17,13 @@ namespace TKR::Contact
 {
   using namespace dealii;
 
-  CondensedActiveSetSolver::CondensedActiveSetSolver(
-    Elasticity::LinearElasticity    &elasticity,
-    const Mortar::MortarCoupling    &coupling,
-    const Parameters::ContactSolver &parameters,
-    const double                     slave_youngs_modulus,
-    const MPI_Comm                   mpi_communicator,
-    const ConditionalOStream        &pcout,
-    TimerOutput                     &timer)
-    : elasticity(elasticity)
-    , coupling(coupling)
-    , parameters(parameters)
-    , slave_youngs_modulus(slave_youngs_modulus)
-    , mpi_communicator(mpi_communicator)
-    , pcout(pcout)
-    , timer(timer)
-  {}
-
   void
-  CondensedActiveSetSolver::factorize(
+  CondensedActiveSetSolver::setup(
     const Mapping<3>                &mapping,
     const AffineConstraints<double> &dirichlet_constraints,
     const Elasticity::BoundaryLoads &loads)
   {
-    dirichlet.clear();
-    dirichlet.copy_from(dirichlet_constraints);
-    elasticity.setup_system(dirichlet);
+    ContactSolver::setup(mapping, dirichlet_constraints, loads);
     elasticity.assemble_system(mapping, dirichlet, loads);
     // The part of the right-hand side that comes from inhomogeneous
     // Dirichlet values (assemble_rhs() leaves it out).
@@ -54,14 +35,18 @@ namespace TKR::Contact
       direct_solver.factorize(elasticity.get_system_matrix());
     }
 
-    surface_dofs    = surface_dof_indices(coupling);
+    surface_dofs    = Mortar::surface_dof_indices(coupling);
     n_slave_values  = 3 * coupling.slave_surface().nodes().size();
     n_master_values = surface_dofs.size() - n_slave_values;
-    slave_columns.assign(coupling.slave_surface().nodes().size(), {});
-    slave_column_normals.assign(slave_columns.size(), Tensor<1, 3>());
+    clear_columns();
+  }
+
+  void
+  CondensedActiveSetSolver::clear_columns()
+  {
+    slave_columns.assign(coupling.slave_surface().nodes().size(), Column());
+    slave_column_loads.assign(slave_columns.size(), Tensor<1, 3>());
     master_columns.assign(coupling.master_surface().nodes().size(), {});
-    slave_observations.assign(slave_columns.size(), {});
-    master_observations.assign(master_columns.size(), {});
     n_stored_columns = 0;
   }
 
@@ -69,16 +54,9 @@ namespace TKR::Contact
   CondensedActiveSetSolver::add_observation(
     const TrilinosWrappers::MPI::Vector &weights)
   {
-    for (const auto &line : dirichlet.get_lines())
-      AssertThrow(line.inhomogeneity == 0.,
-                  ExcMessage("Observations need homogeneous constraints."));
-    observation_weights.push_back(weights);
-    for (auto &column : slave_columns)
-      column.clear();
-    for (auto &column : master_columns)
-      column.clear();
-    n_stored_columns = 0;
-    return observation_weights.size() - 1;
+    const unsigned int index = ContactSolver::add_observation(weights);
+    clear_columns();
+    return index;
   }
 
   std::vector<double>
@@ -145,18 +123,18 @@ namespace TKR::Contact
     return values;
   }
 
-  // The columns are solved in batches (the LU factors are applied to many
-  // right-hand sides at once); of each only the surface values are kept.
+  // The columns are solved in batches (the factors are applied to many
+  // right-hand sides at once); of each only the surface values and the
+  // observations are kept.
   void
   CondensedActiveSetSolver::compute_columns(
+    const Mortar::MortarOperator    &B,
     const std::vector<unsigned int> &slave,
     const std::vector<unsigned int> &master)
   {
     TimerOutput::Scope scope(timer, "compliance columns");
-    const auto        &slave_nodes  = coupling.slave_surface().nodes();
     const auto        &master_nodes = coupling.master_surface().nodes();
-    const auto        &nodes        = coupling.slave_nodes();
-    // (slave node or master node, direction): direction 3 = slave normal.
+    // (slave node, 3) or (master node, direction).
     std::vector<std::pair<unsigned int, unsigned int>> loads;
     for (const unsigned int j : slave)
       loads.emplace_back(j, 3);
@@ -168,21 +146,21 @@ namespace TKR::Contact
       {
         const unsigned int n_columns =
           std::min<unsigned int>(batch, loads.size() - start);
-        Epetra_MultiVector B(direct_solver.row_map(), n_columns);
+        Epetra_MultiVector rhs(direct_solver.row_map(), n_columns);
         Epetra_MultiVector X(direct_solver.row_map(), n_columns);
         for (unsigned int c = 0; c < n_columns; ++c)
           {
             const auto [node, d] = loads[start + c];
             if (d == 3)
-              for (unsigned int e = 0; e < 3; ++e)
-                add_load(B,
-                         c,
-                         slave_nodes[node].dofs[e],
-                         nodes[node].normal[e]);
+              {
+                for (auto e = B.begin(node); e != B.end(node); ++e)
+                  if (e->column < n_slave_values)
+                    add_load(rhs, c, surface_dofs[e->column], e->value);
+              }
             else
-              add_load(B, c, master_nodes[node].dofs[d], 1.);
+              add_load(rhs, c, master_nodes[node].dofs[d], 1.);
           }
-        direct_solver.solve(X, B);
+        direct_solver.solve(X, rhs);
         const std::vector<double> values         = read_surface(X, false);
         const std::vector<double> observations   = observe(X);
         const unsigned int        n_observations = observation_weights.size();
@@ -210,31 +188,46 @@ namespace TKR::Contact
                           "couples the tibia_contact and femur_contact "
                           "surfaces. Use Contact solver/Solver = active "
                           "set."));
-            const double *observed_values = &observations[c * n_observations];
-            if (is_slave)
-              {
-                slave_columns[node].assign(own, own + n_own);
-                slave_column_normals[node] = nodes[node].normal;
-                slave_observations[node].assign(observed_values,
-                                                observed_values +
-                                                  n_observations);
-              }
-            else
-              {
-                auto &stored = master_columns[node];
-                stored.resize(3 * n_master_values);
-                std::copy(own,
-                          own + n_own,
-                          stored.begin() + d * n_master_values);
-                auto &stored_observations = master_observations[node];
-                stored_observations.resize(3 * n_observations);
-                std::copy(observed_values,
-                          observed_values + n_observations,
-                          stored_observations.begin() + d * n_observations);
-              }
+            Column &stored =
+              is_slave ? slave_columns[node] : master_columns[node][d];
+            stored.surface.assign(own, own + n_own);
+            stored.observations.assign(observations.begin() +
+                                         c * n_observations,
+                                       observations.begin() +
+                                         (c + 1) * n_observations);
           }
         n_stored_columns += n_columns;
       }
+    for (const unsigned int j : slave)
+      for (auto e = B.begin(j); e != B.end(j); ++e)
+        if (e->column < n_slave_values)
+          slave_column_loads[j][e->column - 3 * j] = e->value;
+  }
+
+  // z_i = K^{-1} B_i^T: the slave part is one stored column, the master
+  // part sum_c B_ic K^{-1} e_c over the master entries of row i.
+  CondensedActiveSetSolver::Column
+  CondensedActiveSetSolver::compliance(const Mortar::MortarOperator &B,
+                                       const unsigned int            i) const
+  {
+    const unsigned int n_observations = observation_weights.size();
+    Column             z;
+    z.surface.assign(surface_dofs.size(), 0.);
+    z.observations = slave_columns[i].observations;
+    std::copy(slave_columns[i].surface.begin(),
+              slave_columns[i].surface.end(),
+              z.surface.begin());
+    for (auto e = B.begin(i); e != B.end(i); ++e)
+      if (e->column >= n_slave_values)
+        {
+          const unsigned int c = e->column - n_slave_values;
+          const Column      &m = master_columns[c / 3][c % 3];
+          for (unsigned int r = 0; r < n_master_values; ++r)
+            z.surface[n_slave_values + r] += e->value * m.surface[r];
+          for (unsigned int o = 0; o < n_observations; ++o)
+            z.observations[o] += e->value * m.observations[o];
+        }
+    return z;
   }
 
   // The Newton iteration on the multipliers. Per iteration: the columns the
@@ -250,9 +243,9 @@ namespace TKR::Contact
   {
     const auto        &nodes   = coupling.slave_nodes();
     const unsigned int n_slave = nodes.size();
-    const unsigned int n       = surface_dofs.size();
     Assert(direct_solver.is_factorized(),
-           ExcMessage("Call factorize() before solve()."));
+           ExcMessage("Call setup() before solve()."));
+    const Mortar::MortarOperator B(coupling);
 
     // u_0 = K^{-1} f.
     elasticity.assemble_rhs(mapping, dirichlet, loads);
@@ -275,14 +268,6 @@ namespace TKR::Contact
     const std::vector<double> u0_surface =
       read_surface(u0.trilinos_vector(), true);
 
-    // B_j applied to surface values in the layout of surface_dofs.
-    const auto apply_B = [&](const unsigned int j, const double *values) {
-      return apply_mortar_operator(coupling,
-                                   j,
-                                   values,
-                                   values + n_slave_values);
-    };
-
     start_state(coupling, initial_distance, state);
 
     ActiveSetUpdate     active_set_update(pcout, slave_youngs_modulus);
@@ -290,7 +275,7 @@ namespace TKR::Contact
     std::vector<double> u_surface;
     // z_i for the nodes needed so far in this solve (the geometry, and so
     // B, is fixed within it).
-    std::vector<std::vector<double>> z(n_slave);
+    std::vector<Column> z(n_slave);
 
     for (unsigned int iteration = 1; iteration <= parameters.max_iterations;
          ++iteration)
@@ -305,55 +290,43 @@ namespace TKR::Contact
         std::vector<unsigned int> slave_needed, master_needed;
         for (const unsigned int i : active)
           {
-            if (slave_columns[i].empty() ||
-                (slave_column_normals[i] - nodes[i].normal).norm() > 1e-12)
+            Tensor<1, 3> load;
+            for (auto e = B.begin(i); e != B.end(i); ++e)
+              if (e->column < n_slave_values)
+                load[e->column - 3 * i] = e->value;
+            if (slave_columns[i].surface.empty() ||
+                (slave_column_loads[i] - load).norm() > 1e-12 * load.norm())
               slave_needed.push_back(i);
-            for (const auto &[k, M] : nodes[i].M)
-              if (master_columns[k].empty())
-                master_needed.push_back(k);
+            for (auto e = B.begin(i); e != B.end(i); ++e)
+              if (e->column >= n_slave_values &&
+                  master_columns[(e->column - n_slave_values) / 3][0]
+                    .surface.empty())
+                master_needed.push_back((e->column - n_slave_values) / 3);
           }
         std::sort(master_needed.begin(), master_needed.end());
         master_needed.erase(std::unique(master_needed.begin(),
                                         master_needed.end()),
                             master_needed.end());
         if (!slave_needed.empty() || !master_needed.empty())
-          compute_columns(slave_needed, master_needed);
+          compute_columns(B, slave_needed, master_needed);
 
-        std::vector<double> lambda(active.size(), 0.);
+        const unsigned int n_active = active.size();
+        Vector<double>     lambda(n_active);
         {
           TimerOutput::Scope scope(timer, "condensed Newton step");
           for (const unsigned int i : active)
-            if (z[i].empty())
-              {
-                // z_i = D_ii K^{-1} n_i (slave part)
-                //       - sum_k M_ik K^{-1} n^m_i (master part).
-                auto &z_i = z[i];
-                z_i.assign(n, 0.);
-                for (unsigned int r = 0; r < n_slave_values; ++r)
-                  z_i[r] = nodes[i].D * slave_columns[i][r];
-                for (const auto &[k, M] : nodes[i].M)
-                  for (unsigned int d = 0; d < 3; ++d)
-                    {
-                      const double weight = -M * nodes[i].master_normal[d];
-                      if (weight == 0.)
-                        continue;
-                      const double *column =
-                        &master_columns[k][d * n_master_values];
-                      for (unsigned int r = 0; r < n_master_values; ++r)
-                        z_i[n_slave_values + r] += weight * column[r];
-                    }
-              }
+            if (z[i].surface.empty())
+              z[i] = compliance(B, i);
 
           // W_AA lambda_A = -g_0,A with g_0 = g - B u_0.
-          const unsigned int       n_active = active.size();
           LAPACKFullMatrix<double> W(n_active, n_active);
-          Vector<double>           rhs(n_active);
           for (unsigned int a = 0; a < n_active; ++a)
             {
               const unsigned int j = active[a];
-              rhs(a) = -(nodes[j].weighted_gap - apply_B(j, u0_surface.data()));
+              lambda(a) =
+                -(nodes[j].weighted_gap - B.apply_row(j, u0_surface.data()));
               for (unsigned int b = 0; b < n_active; ++b)
-                W(a, b) = apply_B(j, z[active[b]].data());
+                W(a, b) = B.apply_row(j, z[active[b]].surface.data());
             }
           if (n_active > 0)
             {
@@ -364,34 +337,30 @@ namespace TKR::Contact
                   W(a, b) = W(b, a) = 0.5 * (W(a, b) + W(b, a));
               W.set_property(LAPACKSupport::symmetric);
               W.compute_cholesky_factorization();
-              W.solve(rhs);
+              W.solve(lambda);
             }
-          for (unsigned int a = 0; a < n_active; ++a)
-            lambda[a] = rhs(a);
 
           // Surface displacement, pressures and gaps.
           u_surface = u0_surface;
           for (unsigned int a = 0; a < n_active; ++a)
             {
-              const auto &z_i = z[active[a]];
-              for (unsigned int r = 0; r < n; ++r)
-                u_surface[r] -= lambda[a] * z_i[r];
+              const auto &z_i = z[active[a]].surface;
+              for (unsigned int r = 0; r < u_surface.size(); ++r)
+                u_surface[r] -= lambda(a) * z_i[r];
             }
           std::fill(state.pressure.begin(), state.pressure.end(), 0.);
           for (unsigned int a = 0; a < n_active; ++a)
-            state.pressure[active[a]] = lambda[a];
+            state.pressure[active[a]] = lambda(a);
           for (unsigned int j = 0; j < n_slave; ++j)
             if (nodes[j].covered)
-              state.gap[j] =
-                (nodes[j].weighted_gap - apply_B(j, u_surface.data())) /
-                nodes[j].D;
+              state.gap[j] = B.gap(j, u_surface.data());
         }
 
         const unsigned int n_changed =
           active_set_update.count_changes(coupling, state);
         pcout << "    active set iteration " << std::setw(2) << iteration
-              << ": " << std::setw(6) << active.size() << " active, "
-              << std::setw(5) << n_changed << " changed" << std::endl;
+              << ": " << std::setw(6) << n_active << " active, " << std::setw(5)
+              << n_changed << " changed" << std::endl;
         if (n_changed == 0)
           {
             statistics.converged = true;
@@ -405,55 +374,34 @@ namespace TKR::Contact
     for (unsigned int j = 0; j < n_slave; ++j)
       for (unsigned int e = 0; e < 3; ++e)
         state.displacement[j][e] = u_surface[3 * j + e];
-    // The observed functionals: w . u = w . u_0 - sum_i lambda_i w . z_i.
-    const unsigned int n_observations = observation_weights.size();
-    observed                          = u0_observations;
+    // The observed functionals: w . u = w . u_0 - sum_i lambda_i w . z_i
+    // (over the nodes that carry a multiplier: those of the last Newton
+    // step, whose z_i are known).
+    observed = u0_observations;
     for (unsigned int j = 0; j < n_slave; ++j)
-      if (state.active[j])
-        {
-          const double lambda = state.pressure[j];
-          for (unsigned int m = 0; m < n_observations; ++m)
-            {
-              double w_z = nodes[j].D * slave_observations[j][m];
-              for (const auto &[k, M] : nodes[j].M)
-                for (unsigned int d = 0; d < 3; ++d)
-                  w_z -= M * nodes[j].master_normal[d] *
-                         master_observations[k][d * n_observations + m];
-              observed[m] -= lambda * w_z;
-            }
-        }
-    last_rhs                     = f;
-    last_state                   = state;
-    statistics.linear_iterations = n_stored_columns - n_columns_before;
+      if (state.pressure[j] != 0.)
+        for (unsigned int m = 0; m < observed.size(); ++m)
+          observed[m] -= state.pressure[j] * z[j].observations[m];
+    last_rhs                    = f;
+    last_state                  = state;
+    statistics.computed_columns = n_stored_columns - n_columns_before;
     add_contact_results(coupling, state, statistics);
     return statistics;
   }
-  // u = K^{-1} (f - B^T lambda) for the multipliers of the last solve.
+
   void
   CondensedActiveSetSolver::compute_solution()
   {
-    TimerOutput::Scope scope(timer, "direct solve");
-    const auto        &nodes        = coupling.slave_nodes();
-    const auto        &slave_nodes  = coupling.slave_surface().nodes();
-    const auto        &master_nodes = coupling.master_surface().nodes();
+    TimerOutput::Scope            scope(timer, "direct solve");
+    const Mortar::MortarOperator  B(coupling);
     TrilinosWrappers::MPI::Vector f = last_rhs;
-    Epetra_MultiVector           &b = f.trilinos_vector();
-    for (unsigned int j = 0; j < nodes.size(); ++j)
+    for (unsigned int j = 0; j < B.n_rows(); ++j)
       if (last_state.active[j])
-        {
-          const double pressure = last_state.pressure[j];
-          for (unsigned int e = 0; e < 3; ++e)
-            add_load(b,
-                     0,
-                     slave_nodes[j].dofs[e],
-                     -pressure * nodes[j].D * nodes[j].normal[e]);
-          for (const auto &[k, M] : nodes[j].M)
-            for (unsigned int e = 0; e < 3; ++e)
-              add_load(b,
-                       0,
-                       master_nodes[k].dofs[e],
-                       pressure * M * nodes[j].master_normal[e]);
-        }
+        for (auto e = B.begin(j); e != B.end(j); ++e)
+          add_load(f.trilinos_vector(),
+                   0,
+                   surface_dofs[e->column],
+                   -last_state.pressure[j] * e->value);
     TrilinosWrappers::MPI::Vector u(f);
     direct_solver.solve(u.trilinos_vector(), f.trilinos_vector());
     dirichlet.distribute(u);

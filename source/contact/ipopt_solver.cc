@@ -192,25 +192,11 @@ namespace TKR::Contact
     };
   } // namespace
 
-  IpoptSolver::IpoptSolver(Elasticity::LinearElasticity &elasticity,
-                           const Mortar::MortarCoupling &coupling,
-                           const double                  tolerance,
-                           const double                  slave_youngs_modulus,
-                           const MPI_Comm                mpi_communicator,
-                           TimerOutput                  &timer)
-    : elasticity(elasticity)
-    , coupling(coupling)
-    , tolerance(tolerance)
-    , slave_youngs_modulus(slave_youngs_modulus)
-    , mpi_communicator(mpi_communicator)
-    , timer(timer)
-  {}
-
   ContactStatistics
   IpoptSolver::solve(const Mapping<3>                &mapping,
-                     const AffineConstraints<double> &dirichlet,
                      const Elasticity::BoundaryLoads &loads,
-                     ContactState                    &state)
+                     const double,
+                     ContactState &state)
   {
     AssertThrow(Utilities::MPI::n_mpi_processes(mpi_communicator) == 1,
                 ExcInputError("Contact solver/Solver = ipopt (and the Ipopt "
@@ -247,11 +233,10 @@ namespace TKR::Contact
         qp->lower[line.index] = qp->upper[line.index] = line.inhomogeneity;
       }
 
-    // One linear inequality per covered slave node.
-    const auto               &nodes        = coupling.slave_nodes();
-    const auto               &slave_nodes  = coupling.slave_surface().nodes();
-    const auto               &master_nodes = coupling.master_surface().nodes();
-    std::vector<unsigned int> row_of_node(nodes.size(),
+    // One linear inequality per covered slave node: g_j - B_j u >= 0.
+    const auto                  &nodes = coupling.slave_nodes();
+    const Mortar::MortarOperator B(coupling);
+    std::vector<unsigned int>    row_of_node(nodes.size(),
                                           numbers::invalid_unsigned_int);
     for (unsigned int j = 0; j < nodes.size(); ++j)
       if (nodes[j].covered)
@@ -259,25 +244,18 @@ namespace TKR::Contact
           const int row  = qp->gap_bound.size();
           row_of_node[j] = row;
           qp->gap_bound.push_back(-nodes[j].weighted_gap);
-          for (unsigned int e = 0; e < 3; ++e)
+          for (auto e = B.begin(j); e != B.end(j); ++e)
             {
               qp->B_row.push_back(row);
-              qp->B_col.push_back(slave_nodes[j].dofs[e]);
-              qp->B_value.push_back(-nodes[j].D * nodes[j].normal[e]);
+              qp->B_col.push_back(B.surface_dofs()[e->column]);
+              qp->B_value.push_back(-e->value);
             }
-          for (const auto &[k, M] : nodes[j].M)
-            for (unsigned int e = 0; e < 3; ++e)
-              {
-                qp->B_row.push_back(row);
-                qp->B_col.push_back(master_nodes[k].dofs[e]);
-                qp->B_value.push_back(M * nodes[j].master_normal[e]);
-              }
         }
 
     Ipopt::SmartPtr<Ipopt::IpoptApplication> ipopt = IpoptApplicationFactory();
     ipopt->Options()->SetIntegerValue("print_level", 0);
     ipopt->Options()->SetStringValue("sb", "yes");
-    ipopt->Options()->SetNumericValue("tol", tolerance);
+    ipopt->Options()->SetNumericValue("tol", 1e-2 * parameters.tolerance);
     ipopt->Options()->SetIntegerValue("max_iter", 500);
     ipopt->Options()->SetStringValue("mu_strategy", "adaptive");
     ipopt->Options()->SetStringValue("hessian_constant", "yes");
@@ -300,39 +278,31 @@ namespace TKR::Contact
     statistics.newton_iterations = Ipopt::IsValid(ipopt->Statistics()) ?
                                      ipopt->Statistics()->IterationCount() :
                                      0;
+    // Multipliers, gaps and the active set of the active-set method.
+    const ActiveSetUpdate update(pcout, slave_youngs_modulus);
     state.active.assign(nodes.size(), false);
     state.pressure.assign(nodes.size(), 0.);
     state.gap.assign(nodes.size(), std::numeric_limits<double>::quiet_NaN());
     state.displacement.assign(nodes.size(), Tensor<1, 3>());
-    for (unsigned int j = 0; j < nodes.size(); ++j)
-      if (row_of_node[j] != numbers::invalid_unsigned_int &&
-          !qp->lambda_solution.empty())
-        {
-          const double lambda = -qp->lambda_solution[row_of_node[j]];
-          double       g      = nodes[j].weighted_gap;
-          for (unsigned int e = 0; e < 3; ++e)
-            g -= nodes[j].D * nodes[j].normal[e] *
-                 qp->x_solution[slave_nodes[j].dofs[e]];
-          for (const auto &[k, M] : nodes[j].M)
+    if (!qp->lambda_solution.empty())
+      {
+        std::vector<double> u_surface(B.n_columns());
+        for (unsigned int c = 0; c < B.n_columns(); ++c)
+          u_surface[c] = qp->x_solution[B.surface_dofs()[c]];
+        for (unsigned int j = 0; j < nodes.size(); ++j)
+          {
             for (unsigned int e = 0; e < 3; ++e)
-              g += M * nodes[j].master_normal[e] *
-                   qp->x_solution[master_nodes[k].dofs[e]];
-          state.pressure[j] = lambda;
-          state.gap[j]      = g / nodes[j].D;
-          for (unsigned int e = 0; e < 3; ++e)
-            state.displacement[j][e] = qp->x_solution[slave_nodes[j].dofs[e]];
-          state.active[j] = lambda - slave_youngs_modulus /
-                                       std::sqrt(nodes[j].D) * state.gap[j] >
-                            0;
-          if (state.active[j])
-            {
-              ++statistics.n_active;
-              statistics.contact_area += nodes[j].D;
-              statistics.contact_force -= lambda * nodes[j].D * nodes[j].normal;
-              statistics.max_pressure =
-                std::max(statistics.max_pressure, lambda);
-            }
-        }
+              state.displacement[j][e] = u_surface[3 * j + e];
+            if (row_of_node[j] == numbers::invalid_unsigned_int)
+              continue;
+            state.pressure[j] = -qp->lambda_solution[row_of_node[j]];
+            state.gap[j]      = B.gap(j, u_surface.data());
+            state.active[j]   = update.complementarity(nodes[j],
+                                                     state.pressure[j],
+                                                     state.gap[j]) > 0;
+          }
+      }
+    add_contact_results(coupling, state, statistics);
     return statistics;
   }
 } // namespace TKR::Contact

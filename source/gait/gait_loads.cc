@@ -197,23 +197,17 @@ namespace TKR::Gait
     };
   }
 
-  Tensor<2, 3>
-  GaitLoads::femur_rotation(const GaitState &state) const
+  RigidMotion
+  GaitLoads::femur_motion(const GaitState &state) const
   {
     const double theta = state.flexion * numbers::PI / 180.;
-    Tensor<2, 3> R;
-    R[0][0] = 1.;
-    R[1][1] = std::cos(theta);
-    R[1][2] = -std::sin(theta);
-    R[2][1] = std::sin(theta);
-    R[2][2] = std::cos(theta);
-    return R;
-  }
-
-  Point<3>
-  GaitLoads::femur_position(const Point<3> &X, const GaitState &state) const
-  {
-    const Point<3> &P = parameters.flexion_axis_point;
-    return P + femur_rotation(state) * (X - P);
+    RigidMotion  motion;
+    motion.rotation[1][1] = std::cos(theta);
+    motion.rotation[1][2] = -std::sin(theta);
+    motion.rotation[2][1] = std::sin(theta);
+    motion.rotation[2][2] = std::cos(theta);
+    const Point<3> &P     = parameters.flexion_axis_point;
+    motion.translation    = P - motion.rotation * P;
+    return motion;
   }
 } // namespace TKR::Gait

@@ -97,8 +97,8 @@ main(int argc, char **argv)
   Mortar::MortarCoupling       coupling(slave, master);
   coupling.reinit(triangulation.get_vertices(), 1.);
 
-  ConditionalOStream       silent(std::cout, false);
-  Contact::ActiveSetSolver solver(elasticity,
+  ConditionalOStream        silent(std::cout, false);
+  Contact::ActiveSetSolver  solver(elasticity,
                                   coupling,
                                   contact,
                                   materials.tibia.youngs_modulus,
@@ -106,11 +106,10 @@ main(int argc, char **argv)
                                   silent,
                                   timer,
                                   true);
-  solver.setup(dirichlet);
-
   Elasticity::BoundaryLoads loads;
   loads.tractions[Mesh::BoundaryIds::femur_fixation] =
     Tensor<1, 3>({0., 0., -pressure});
+  solver.setup(mapping, dirichlet, loads);
   Contact::ContactState state;
   const auto            statistics = solver.solve(mapping, loads, 1e-8, state);
 

@@ -7,7 +7,7 @@
 // relative. The DoF numbering differs between the two (it follows the
 // partition); the slave nodes do not.
 
-#include <tkr/contact/contact_problem.h>
+#include <tkr/problems/contact_problem.h>
 
 #include <fstream>
 
@@ -34,11 +34,11 @@ main(int argc, char **argv)
   const auto parameters = TKR::Parameters::read_parameters(prm);
 
   // Silence the problems' screen output; this test reports via deallog.
-  std::streambuf              *screen = std::cout.rdbuf(nullptr);
-  TKR::Contact::ContactProblem parallel(parameters, MPI_COMM_WORLD);
-  const bool                   parallel_converged = parallel.run();
-  TKR::Contact::ContactProblem serial(parameters, MPI_COMM_SELF);
-  const bool                   serial_converged = serial.run();
+  std::streambuf               *screen = std::cout.rdbuf(nullptr);
+  TKR::Problems::ContactProblem parallel(parameters, MPI_COMM_WORLD);
+  const bool                    parallel_converged = parallel.run();
+  TKR::Problems::ContactProblem serial(parameters, MPI_COMM_SELF);
+  const bool                    serial_converged = serial.run();
   std::cout.rdbuf(screen);
 
   const auto &a     = parallel.get_state();

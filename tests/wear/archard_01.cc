@@ -7,7 +7,7 @@
 // contact slides 2 s per cycle and the worn volume must be k F 2 s (to
 // 1e-8), the depth k p 2 s at every node.
 
-#include <tkr/contact/contact_problem.h>
+#include <tkr/problems/contact_problem.h>
 #include <tkr/wear/archard.h>
 
 #include <fstream>
@@ -32,13 +32,13 @@ main(int argc, char **argv)
   }
   const auto      parameters = Parameters::read_parameters("archard_01.prm");
   std::streambuf *screen     = std::cout.rdbuf(nullptr);
-  Contact::ContactProblem problem(parameters, MPI_COMM_WORLD);
-  const bool              converged = problem.run();
+  Problems::ContactProblem problem(parameters, MPI_COMM_WORLD);
+  const bool               converged = problem.run();
   std::cout.rdbuf(screen);
 
   const double      k = 2e-7 * 1e-3; // mm^3/(N mm)
   const double      s = 0.8;         // mm
-  Wear::RigidMotion at_rest, slid;
+  Gait::RigidMotion at_rest, slid;
   slid.translation[1]                       = s;
   const std::vector<Wear::StepRecord> steps = {
     Wear::make_step_record(problem.get_coupling(),

@@ -7,7 +7,7 @@
 // (to 1e-6 of the largest depth: the contact solves agree to the linear
 // solver's tolerance, 1e-10, and the pose iteration stops within 0.01 mm).
 
-#include <tkr/wear/wear_problem.h>
+#include <tkr/problems/wear_problem.h>
 
 #include <fstream>
 
@@ -30,10 +30,10 @@ namespace
           << "\nend\nsubsection Output\n  set Directory = results-" << prm
           << "\n  set VTU interval = 0\n  set Testing = true\nend\n";
     }
-    const auto             parameters = TKR::Parameters::read_parameters(prm);
-    std::streambuf        *screen     = std::cout.rdbuf(nullptr);
-    TKR::Wear::WearProblem problem(parameters, communicator);
-    const bool             converged = problem.run();
+    const auto      parameters = TKR::Parameters::read_parameters(prm);
+    std::streambuf *screen     = std::cout.rdbuf(nullptr);
+    TKR::Problems::WearProblem problem(parameters, communicator);
+    const bool                 converged = problem.run();
     std::cout.rdbuf(screen);
     deallog << name << ": converged " << yes_no(converged) << std::endl;
     return problem.get_wear_depth();

@@ -17,6 +17,32 @@ namespace TKR
    */
   void
   sum_over_ranks(std::vector<double> &values, const MPI_Comm communicator);
+
+  /**
+   * The split of the ranks of a communicator into groups that share
+   * independent work items, e.g. the steps of a gait cycle (rank r is in
+   * group r * n_groups / n_ranks; group g does the items g, g + n_groups,
+   * ...). Owns the group communicator.
+   */
+  struct StepGroups
+  {
+    /** @p requested_groups: 0 for one group per rank. */
+    StepGroups(const MPI_Comm world, const unsigned int requested_groups);
+    ~StepGroups();
+    StepGroups(const StepGroups &) = delete;
+    StepGroups &
+    operator=(const StepGroups &) = delete;
+
+    /** The items (of @p n_items) this group does. */
+    std::vector<unsigned int>
+    own_items(const unsigned int n_items) const;
+
+    MPI_Comm     communicator;
+    unsigned int n_groups;
+    unsigned int index;
+    /** Rank 0 of the group. */
+    bool is_group_root;
+  };
 } // namespace TKR
 
 #endif

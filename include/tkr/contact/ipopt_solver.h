@@ -4,16 +4,7 @@
 #ifndef tkr_contact_ipopt_solver_h
 #define tkr_contact_ipopt_solver_h
 
-#include <deal.II/base/conditional_ostream.h>
-#include <deal.II/base/timer.h>
-
-#include <deal.II/fe/mapping.h>
-
-#include <deal.II/lac/affine_constraints.h>
-
-#include <tkr/contact/active_set_solver.h>
-#include <tkr/elasticity/linear_elasticity.h>
-#include <tkr/mortar/mortar_coupling.h>
+#include <tkr/contact/contact_solver.h>
 
 namespace TKR::Contact
 {
@@ -31,34 +22,35 @@ namespace TKR::Contact
    * tests cross-check the active-set solution with it. The pressure is
    * minus Ipopt's constraint multiplier.
    */
-  class IpoptSolver
+  class IpoptSolver : public ContactSolver
   {
   public:
-    IpoptSolver(Elasticity::LinearElasticity &elasticity,
-                const Mortar::MortarCoupling &coupling,
-                const double                  tolerance,
-                const double                  slave_youngs_modulus,
-                const MPI_Comm                mpi_communicator,
-                dealii::TimerOutput          &timer);
+    using ContactSolver::ContactSolver;
 
     /**
-     * Solve; the solution goes into @p elasticity, pressures, gaps and the
-     * active set (nodes where lambda_j - c_j g_j > 0, as in the active-set
-     * method) into @p state. Only on one MPI rank.
+     * Solve to 1e-2 x the Contact solver tolerance; the solution goes into
+     * the LinearElasticity object, pressures, gaps and the active set
+     * (nodes where lambda_j - c_j g_j > 0, as in the active-set method)
+     * into @p state. Only on one MPI rank. @p initial_distance is not used
+     * (the interior-point method needs no initial active set).
      */
     ContactStatistics
-    solve(const dealii::Mapping<3>                &mapping,
-          const dealii::AffineConstraints<double> &dirichlet,
-          const Elasticity::BoundaryLoads         &loads,
-          ContactState                            &state);
+    solve(const dealii::Mapping<3>        &mapping,
+          const Elasticity::BoundaryLoads &loads,
+          const double                     initial_distance,
+          ContactState                    &state) override;
 
-  private:
-    Elasticity::LinearElasticity &elasticity;
-    const Mortar::MortarCoupling &coupling;
-    const double                  tolerance;
-    const double                  slave_youngs_modulus;
-    const MPI_Comm                mpi_communicator;
-    dealii::TimerOutput          &timer;
+    std::string
+    name() const override
+    {
+      return "Ipopt, interior point";
+    }
+
+    std::string
+    description() const override
+    {
+      return name();
+    }
   };
 } // namespace TKR::Contact
 

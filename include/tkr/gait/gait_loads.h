@@ -10,6 +10,7 @@
 #include <deal.II/grid/tria.h>
 
 #include <tkr/elasticity/linear_elasticity.h>
+#include <tkr/gait/rigid_motion.h>
 #include <tkr/gait/waveform.h>
 #include <tkr/parameters/parameters.h>
 
@@ -97,13 +98,13 @@ namespace TKR::Gait
       return surface;
     }
 
-    /** The femur's rotation for the flexion angle of @p state. */
-    dealii::Tensor<2, 3>
-    femur_rotation(const GaitState &state) const;
-
-    /** Where the femur's reference point @p X is in @p state. */
-    dealii::Point<3>
-    femur_position(const dealii::Point<3> &X, const GaitState &state) const;
+    /**
+     * The femur's rigid flexion motion in @p state: the rotation by the
+     * flexion angle about the x axis through the flexion axis point,
+     * x = P + R (X - P).
+     */
+    RigidMotion
+    femur_motion(const GaitState &state) const;
 
     /** Centroid of the inferior surface. */
     const dealii::Point<3> &

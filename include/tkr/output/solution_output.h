@@ -46,15 +46,16 @@ namespace TKR::Output
                  const unsigned int                      n_dofs);
 
   /**
-   * End of a run: record the number of MPI ranks and the wall time in
-   * @p summary, write `directory/summary.json` and say where the results
-   * are.
+   * End of a run: record the number of MPI ranks and (unless @p testing)
+   * the wall time in @p summary, write `directory/summary.json` and say
+   * where the results are.
    */
   void
   finish_run(Summary                          &summary,
              const std::string                &directory,
              const MPI_Comm                    mpi_communicator,
              const double                      wall_time,
+             const bool                        testing,
              const dealii::ConditionalOStream &out);
 
   /**

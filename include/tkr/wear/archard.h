@@ -4,61 +4,13 @@
 #ifndef tkr_wear_archard_h
 #define tkr_wear_archard_h
 
-#include <deal.II/base/point.h>
-#include <deal.II/base/tensor.h>
-
-#include <tkr/contact/active_set_solver.h>
 #include <tkr/mortar/mortar_coupling.h>
+#include <tkr/wear/step_record.h>
 
 #include <vector>
 
 namespace TKR::Wear
 {
-  /** A rigid motion x = R X + t of the femur (mm). */
-  struct RigidMotion
-  {
-    dealii::Tensor<2, 3> rotation = dealii::unit_symmetric_tensor<3>();
-    dealii::Tensor<1, 3> translation;
-
-    dealii::Point<3>
-    operator()(const dealii::Point<3> &X) const
-    {
-      return dealii::Point<3>(rotation * X + translation);
-    }
-
-    /** The inverse motion applied to @p x. */
-    dealii::Point<3>
-    inverse(const dealii::Point<3> &x) const
-    {
-      return dealii::Point<3>(transpose(rotation) * (x - translation));
-    }
-  };
-
-  /**
-   * What one gait step leaves for the wear computation, per slave
-   * (`tibia_contact`) node: contact pressure (0 where not in contact), the
-   * femur material point it touches (in the femur's reference
-   * configuration), its displacement and its normal.
-   */
-  struct StepRecord
-  {
-    RigidMotion                       femur_motion;
-    std::vector<double>               pressure;
-    std::vector<dealii::Point<3>>     femur_point;
-    std::vector<dealii::Tensor<1, 3>> displacement;
-    std::vector<dealii::Tensor<1, 3>> normal;
-  };
-
-  /**
-   * The record of a contact solve: pressures of the active nodes, and as
-   * femur material point the mortar projection of each node mapped back
-   * through the femur's motion.
-   */
-  StepRecord
-  make_step_record(const Mortar::MortarCoupling &coupling,
-                   const Contact::ContactState  &state,
-                   const RigidMotion            &femur_motion);
-
   /**
    * The wear depth (mm) of every node over the interval from step @p a to
    * step @p b (the trapezoidal rule of cycle_wear_depth()); @p slip (if

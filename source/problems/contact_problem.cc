@@ -7,63 +7,34 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <tkr/base/exceptions.h>
-#include <tkr/contact/condensed_solver.h>
-#include <tkr/contact/contact_problem.h>
 #include <tkr/contact/hertz.h>
 #include <tkr/contact/ipopt_solver.h>
 #include <tkr/mesh/mesh.h>
 #include <tkr/output/solution_output.h>
+#include <tkr/problems/contact_problem.h>
 
-#include <iomanip>
-#include <sstream>
-
-namespace TKR::Contact
+namespace TKR::Problems
 {
   using namespace dealii;
+  using Contact::ContactStatistics;
 
   namespace
   {
     /** Boundary id given to the free faces that get rollers. */
     constexpr types::boundary_id roller_id = 5;
-  } // namespace
 
-  ContactProblem::ContactProblem(const Parameters::AllParameters &parameters,
-                                 const MPI_Comm mpi_communicator)
-    : parameters(parameters)
-    , mpi_communicator(mpi_communicator)
-    , pcout(std::cout, Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
-    // Rank 0's times; the MPI variant of TimerOutput would print a warning
-    // whenever an input error unwinds the stack.
-    , timer(pcout,
-            parameters.output.testing ? TimerOutput::never :
-                                        TimerOutput::summary,
-            TimerOutput::wall_times)
-    , triangulation(mpi_communicator,
-                    Triangulation<3>::none,
-                    /*allow_artificial_cells=*/false,
-                    parallel::shared::Triangulation<3>::partition_metis)
-    , elasticity(triangulation,
-                 parameters.materials,
-                 parameters.linear_solver,
-                 parameters.mesh.fe_degree,
-                 mpi_communicator,
-                 timer)
-  {}
-
-  void
-  ContactProblem::make_grid()
-  {
-    TimerOutput::Scope scope(timer, "read mesh");
-    Mesh::read_mesh(parameters.mesh, triangulation);
-    const int axis = parameters.static_contact.roller_axis;
-    if (axis >= 0)
+    /**
+     * Give the free faces whose normal is parallel to @p axis (their
+     * vertices share that coordinate) the roller id.
+     */
+    void
+    mark_roller_faces(Triangulation<3> &triangulation, const int axis)
+    {
       for (const auto &cell : triangulation.active_cell_iterators())
         for (const auto f : cell->face_indices())
           if (cell->face(f)->at_boundary() &&
               cell->face(f)->boundary_id() == Mesh::BoundaryIds::free)
             {
-              // The face normal is parallel to the axis if the face's
-              // vertices share that coordinate.
               const auto   face = cell->face(f);
               const double x0   = face->vertex(0)[axis];
               bool         flat = true;
@@ -73,21 +44,24 @@ namespace TKR::Contact
               if (flat)
                 face->set_boundary_id(roller_id);
             }
-    Output::report_mesh(pcout,
-                        summary,
-                        Mesh::compute_statistics(triangulation),
-                        parameters.mesh.file,
-                        parameters.output.testing);
-  }
+    }
+  } // namespace
+
+  ContactProblem::ContactProblem(const Parameters::AllParameters &parameters,
+                                 const MPI_Comm mpi_communicator)
+    : model(parameters, mpi_communicator, mpi_communicator)
+  {}
 
   void
   ContactProblem::setup_system()
   {
-    elasticity.distribute_dofs();
-    const auto &dof_handler = elasticity.get_dof_handler();
-    pcout << "Degrees of freedom: " << dof_handler.n_dofs() << ", MPI ranks: "
-          << Utilities::MPI::n_mpi_processes(mpi_communicator) << std::endl;
-    summary.set("dofs", static_cast<unsigned long long>(dof_handler.n_dofs()));
+    const auto &parameters = model.parameters;
+    model.distribute_dofs();
+    const auto &dof_handler = model.elasticity.get_dof_handler();
+    model.pcout << "Degrees of freedom: " << dof_handler.n_dofs()
+                << ", MPI ranks: "
+                << Utilities::MPI::n_mpi_processes(model.communicator)
+                << std::endl;
 
     // Dirichlet data on all DoFs (every rank knows every constraint).
     const auto &sc = parameters.static_contact;
@@ -95,7 +69,7 @@ namespace TKR::Contact
     Vector<double> femur_displacement(3);
     for (unsigned int d = 0; d < 3; ++d)
       femur_displacement(d) = sc.femur_displacement[d];
-    VectorTools::interpolate_boundary_values(mapping,
+    VectorTools::interpolate_boundary_values(model.mapping(),
                                              dof_handler,
                                              Mesh::BoundaryIds::femur_fixation,
                                              Functions::ConstantFunction<3>(
@@ -103,7 +77,7 @@ namespace TKR::Contact
                                              dirichlet);
     if (sc.tibia_inferior == Parameters::TibiaSupport::clamped)
       VectorTools::interpolate_boundary_values(
-        mapping,
+        model.mapping(),
         dof_handler,
         Mesh::BoundaryIds::tibia_inferior,
         Functions::ZeroFunction<3>(3),
@@ -112,7 +86,7 @@ namespace TKR::Contact
       {
         ComponentMask mask(3, false);
         mask.set(sc.roller_axis, true);
-        VectorTools::interpolate_boundary_values(mapping,
+        VectorTools::interpolate_boundary_values(model.mapping(),
                                                  dof_handler,
                                                  roller_id,
                                                  Functions::ZeroFunction<3>(3),
@@ -126,7 +100,7 @@ namespace TKR::Contact
     loads = Elasticity::BoundaryLoads();
     if (sc.tibia_inferior == Parameters::TibiaSupport::loaded)
       {
-        const double area = Mesh::compute_statistics(triangulation)
+        const double area = Mesh::compute_statistics(model.triangulation)
                               .boundary_area[Mesh::BoundaryIds::tibia_inferior];
         loads.tractions[Mesh::BoundaryIds::tibia_inferior] =
           Tensor<1, 3>({0., 0., sc.axial_force / area});
@@ -136,7 +110,7 @@ namespace TKR::Contact
       }
 
     {
-      TimerOutput::Scope scope(timer, "mortar coupling");
+      TimerOutput::Scope scope(model.timer, "mortar coupling");
       slave = std::make_unique<Mortar::ContactSurface>(
         dof_handler,
         Mesh::BoundaryIds::tibia_contact);
@@ -144,33 +118,24 @@ namespace TKR::Contact
         dof_handler,
         Mesh::BoundaryIds::femur_contact);
       coupling = std::make_unique<Mortar::MortarCoupling>(*slave, *master);
-      coupling->reinit(triangulation.get_vertices(),
+      coupling->reinit(model.geometry.vertex_positions(),
                        parameters.contact_solver.search_distance);
     }
     const auto &cs = coupling->statistics();
-    pcout << "Mortar coupling: " << cs.n_slave_faces << " slave faces, "
-          << cs.n_master_faces << " master faces, " << cs.n_overlapping_pairs
-          << " overlapping face pairs, " << cs.n_covered_nodes << " of "
-          << slave->nodes().size() << " slave nodes face the femur"
-          << std::endl;
+    model.pcout << "Mortar coupling: " << cs.n_slave_faces << " slave faces, "
+                << cs.n_master_faces << " master faces, "
+                << cs.n_overlapping_pairs << " overlapping face pairs, "
+                << cs.n_covered_nodes << " of " << slave->nodes().size()
+                << " slave nodes face the femur" << std::endl;
     check_initial_gaps();
 
-    // The condensed active set and Ipopt set up their own systems.
-    const auto algorithm = parameters.contact_solver.algorithm;
-    if (algorithm == Parameters::ContactAlgorithm::active_set ||
-        algorithm == Parameters::ContactAlgorithm::automatic)
-      {
-        solver = std::make_unique<ActiveSetSolver>(
-          elasticity,
-          *coupling,
-          parameters.contact_solver,
-          parameters.materials.tibia.youngs_modulus,
-          mpi_communicator,
-          pcout,
-          timer,
-          parameters.output.testing);
-        solver->setup(dirichlet);
-      }
+    solver = Contact::create_contact_solver(parameters,
+                                            model.elasticity,
+                                            *coupling,
+                                            model.communicator,
+                                            model.pcout,
+                                            model.timer);
+    solver->setup(model.mapping(), dirichlet, loads);
   }
 
   // Refuse geometries that cannot work: bodies that overlap, and a loaded
@@ -178,18 +143,9 @@ namespace TKR::Contact
   void
   ContactProblem::check_initial_gaps() const
   {
-    double       min_gap = std::numeric_limits<double>::max();
-    unsigned int closest = 0;
-    for (unsigned int j = 0; j < coupling->slave_nodes().size(); ++j)
-      {
-        const auto &node = coupling->slave_nodes()[j];
-        if (node.covered && node.weighted_gap / node.D < min_gap)
-          {
-            min_gap = node.weighted_gap / node.D;
-            closest = j;
-          }
-      }
-    const bool loaded = parameters.static_contact.tibia_inferior ==
+    const auto &parameters        = model.parameters;
+    const auto [min_gap, closest] = Contact::smallest_gap(*coupling);
+    const bool loaded             = parameters.static_contact.tibia_inferior ==
                         Parameters::TibiaSupport::loaded;
     AssertThrow(coupling->statistics().n_covered_nodes > 0 || !loaded,
                 ExcInputError(
@@ -203,7 +159,7 @@ namespace TKR::Contact
     if (coupling->statistics().n_covered_nodes == 0)
       return;
     const Point<3> &x =
-      triangulation.get_vertices()[slave->nodes()[closest].vertex];
+      model.geometry.vertex_positions()[slave->nodes()[closest].vertex];
     const std::string where = "(" + format_number(x[0]) + ", " +
                               format_number(x[1]) + ", " + format_number(x[2]) +
                               ")";
@@ -232,45 +188,15 @@ namespace TKR::Contact
   ContactStatistics
   ContactProblem::solve()
   {
-    TimerOutput::Scope scope(timer, "contact solve");
-    if (parameters.contact_solver.algorithm ==
-        Parameters::ContactAlgorithm::ipopt)
-      {
-        pcout << "Contact solve (Ipopt, interior point):" << std::endl;
-        IpoptSolver ipopt(elasticity,
-                          *coupling,
-                          1e-2 * parameters.contact_solver.tolerance,
-                          parameters.materials.tibia.youngs_modulus,
-                          mpi_communicator,
-                          timer);
-        return ipopt.solve(mapping, dirichlet, loads, state);
-      }
-    if (parameters.contact_solver.algorithm ==
-        Parameters::ContactAlgorithm::condensed_active_set)
-      {
-        pcout << "Contact solve (condensed active set):" << std::endl;
-        CondensedActiveSetSolver condensed(
-          elasticity,
-          *coupling,
-          parameters.contact_solver,
-          parameters.materials.tibia.youngs_modulus,
-          mpi_communicator,
-          pcout,
-          timer);
-        condensed.factorize(mapping, dirichlet, loads);
-        const ContactStatistics statistics =
-          condensed.solve(mapping,
-                          loads,
-                          parameters.contact_solver.initial_contact_distance,
-                          state);
-        condensed.compute_solution();
-        return statistics;
-      }
-    pcout << "Contact solve (active set):" << std::endl;
-    return solver->solve(mapping,
-                         loads,
-                         parameters.contact_solver.initial_contact_distance,
-                         state);
+    TimerOutput::Scope scope(model.timer, "contact solve");
+    model.pcout << "Contact solve (" << solver->name() << "):" << std::endl;
+    const ContactStatistics statistics =
+      solver->solve(model.mapping(),
+                    loads,
+                    model.parameters.contact_solver.initial_contact_distance,
+                    state);
+    solver->compute_solution();
+    return statistics;
   }
 
   // Solve the same discrete problem with Ipopt and compare: displacements
@@ -279,19 +205,22 @@ namespace TKR::Contact
   void
   ContactProblem::cross_check_with_ipopt()
   {
+    auto                               &elasticity = model.elasticity;
     const TrilinosWrappers::MPI::Vector active_set_solution(
       elasticity.get_solution());
-    const ContactState active_set_state = state;
+    const Contact::ContactState active_set_state = state;
 
-    ContactState            ipopt_state;
-    IpoptSolver             ipopt(elasticity,
-                      *coupling,
-                      1e-2 * parameters.contact_solver.tolerance,
-                      parameters.materials.tibia.youngs_modulus,
-                      mpi_communicator,
-                      timer);
+    Contact::ContactState ipopt_state;
+    Contact::IpoptSolver  ipopt(elasticity,
+                               *coupling,
+                               model.parameters.contact_solver,
+                               model.parameters.materials.tibia.youngs_modulus,
+                               model.communicator,
+                               model.pcout,
+                               model.timer);
+    ipopt.setup(model.mapping(), dirichlet, loads);
     const ContactStatistics statistics =
-      ipopt.solve(mapping, dirichlet, loads, ipopt_state);
+      ipopt.solve(model.mapping(), loads, 0., ipopt_state);
 
     double max_u = 0, du = 0, max_p = 0, dp = 0;
     for (unsigned int i = 0; i < active_set_solution.size(); ++i)
@@ -312,17 +241,17 @@ namespace TKR::Contact
     for (unsigned int j = 0; j < state.active.size(); ++j)
       n_differ += (active_set_state.active[j] != ipopt_state.active[j]);
 
-    pcout << "Cross-check with Ipopt: "
-          << (statistics.converged ? "converged" : "did NOT converge")
-          << std::endl
-          << "  displacement difference / max displacement below 1e-6: "
-          << (du < 1e-6 * max_u ? "yes" : "no") << std::endl
-          << "  pressure difference / max pressure below 1e-6:         "
-          << (dp < 1e-6 * max_p ? "yes" : "no") << std::endl
-          << "  nodes whose active status differs:                     "
-          << n_differ << std::endl;
-    summary.set("ipopt_displacement_difference", du / max_u);
-    summary.set("ipopt_pressure_difference", dp / max_p);
+    model.pcout << "Cross-check with Ipopt: "
+                << (statistics.converged ? "converged" : "did NOT converge")
+                << std::endl
+                << "  displacement difference / max displacement below 1e-6: "
+                << (du < 1e-6 * max_u ? "yes" : "no") << std::endl
+                << "  pressure difference / max pressure below 1e-6:         "
+                << (dp < 1e-6 * max_p ? "yes" : "no") << std::endl
+                << "  nodes whose active status differs:                     "
+                << n_differ << std::endl;
+    model.summary.set("ipopt_displacement_difference", du / max_u);
+    model.summary.set("ipopt_pressure_difference", dp / max_p);
 
     // Restore the active-set result.
     state = active_set_state;
@@ -332,28 +261,31 @@ namespace TKR::Contact
   void
   ContactProblem::report(const ContactStatistics &statistics)
   {
-    const double radius = std::sqrt(statistics.contact_area / numbers::PI);
-    const double force  = statistics.contact_force.norm();
-    pcout << "Contact "
-          << (statistics.converged ? "converged" : "did NOT converge") << " in "
-          << statistics.newton_iterations << " active-set iterations"
-          << std::endl
-          << "  active nodes:       " << statistics.n_active << std::endl
-          << "  contact force:      " << force << " N" << std::endl
-          << "  contact area:       " << statistics.contact_area << " mm^2"
-          << std::endl
-          << "  contact radius:     " << radius << " mm (sqrt(area/pi))"
-          << std::endl
-          << "  max pressure:       " << statistics.max_pressure << " MPa"
-          << std::endl;
-    summary.set("converged", statistics.converged);
+    auto        &summary = model.summary;
+    const double radius  = std::sqrt(statistics.contact_area / numbers::PI);
+    const double force   = statistics.contact_force.norm();
+    model.pcout << "Contact "
+                << (statistics.converged ? "converged" : "did NOT converge")
+                << " in " << statistics.newton_iterations
+                << " active-set iterations" << std::endl
+                << "  active nodes:       " << statistics.n_active << std::endl
+                << "  contact force:      " << force << " N" << std::endl
+                << "  contact area:       " << statistics.contact_area
+                << " mm^2" << std::endl
+                << "  contact radius:     " << radius << " mm (sqrt(area/pi))"
+                << std::endl
+                << "  max pressure:       " << statistics.max_pressure << " MPa"
+                << std::endl;
     summary.set("max_pressure_MPa", statistics.max_pressure);
     summary.set("contact_area_mm2", statistics.contact_area);
     summary.set("contact_radius_mm", radius);
     summary.set("contact_force_N", force);
     summary.set("active_nodes", statistics.n_active);
     summary.set("newton_iterations", statistics.newton_iterations);
-    summary.set("cg_iterations", statistics.linear_iterations);
+    if (statistics.cg_iterations > 0)
+      summary.set("cg_iterations", statistics.cg_iterations);
+    if (statistics.computed_columns > 0)
+      summary.set("computed_columns", statistics.computed_columns);
   }
 
   // Hertz's solution for the computed force, and a fit of Hertz's elliptic
@@ -362,20 +294,23 @@ namespace TKR::Contact
   void
   ContactProblem::compare_with_hertz(const ContactStatistics &statistics)
   {
+    const auto &parameters   = model.parameters;
+    auto       &summary      = model.summary;
     const auto &verification = parameters.verification;
     const bool  is_sphere    = verification.analytic_solution ==
                            Parameters::AnalyticSolution::hertz_sphere;
-    const double E_star = Hertz::effective_modulus(parameters.materials.femur,
-                                                   parameters.materials.tibia);
-    const double F      = statistics.contact_force.norm();
-    const Hertz::Solution exact =
-      is_sphere ? Hertz::sphere(F, verification.radius, E_star) :
-                  Hertz::cylinder(F,
-                                  verification.cylinder_length,
-                                  verification.radius,
-                                  E_star);
+    const double E_star =
+      Contact::Hertz::effective_modulus(parameters.materials.femur,
+                                        parameters.materials.tibia);
+    const double                   F = statistics.contact_force.norm();
+    const Contact::Hertz::Solution exact =
+      is_sphere ? Contact::Hertz::sphere(F, verification.radius, E_star) :
+                  Contact::Hertz::cylinder(F,
+                                           verification.cylinder_length,
+                                           verification.radius,
+                                           E_star);
 
-    const auto &vertices = triangulation.get_vertices();
+    const auto &vertices = model.geometry.vertex_positions();
     Point<3>    centre;
     double      weight = 0;
     for (unsigned int j = 0; j < state.active.size(); ++j)
@@ -396,22 +331,25 @@ namespace TKR::Contact
           r.push_back(d.norm());
           p.push_back(state.pressure[j]);
         }
-    const Hertz::Solution fitted = Hertz::fit(r, p);
-    const double          area_measure =
+    const Contact::Hertz::Solution fitted = Contact::Hertz::fit(r, p);
+    const double                   area_measure =
       is_sphere ? std::sqrt(statistics.contact_area / numbers::PI) :
-                           statistics.contact_area / (2. * verification.cylinder_length);
+                                    statistics.contact_area / (2. * verification.cylinder_length);
 
-    pcout << "Hertz " << (is_sphere ? "sphere" : "cylinder (plane strain)")
-          << " for the computed force (E* = " << E_star << " MPa):" << std::endl
-          << "  " << (is_sphere ? "contact radius" : "half-width    ")
-          << ":  Hertz " << exact.a << " mm, fitted " << fitted.a
-          << " mm (ratio " << fitted.a / exact.a << "), from area "
-          << area_measure << " mm (ratio " << area_measure / exact.a << ")"
-          << std::endl
-          << "  peak pressure :  Hertz " << exact.p0 << " MPa, max nodal "
-          << statistics.max_pressure << " MPa (ratio "
-          << statistics.max_pressure / exact.p0 << "), fitted " << fitted.p0
-          << " MPa (ratio " << fitted.p0 / exact.p0 << ")" << std::endl;
+    model.pcout << "Hertz "
+                << (is_sphere ? "sphere" : "cylinder (plane strain)")
+                << " for the computed force (E* = " << E_star
+                << " MPa):" << std::endl
+                << "  " << (is_sphere ? "contact radius" : "half-width    ")
+                << ":  Hertz " << exact.a << " mm, fitted " << fitted.a
+                << " mm (ratio " << fitted.a / exact.a << "), from area "
+                << area_measure << " mm (ratio " << area_measure / exact.a
+                << ")" << std::endl
+                << "  peak pressure :  Hertz " << exact.p0 << " MPa, max nodal "
+                << statistics.max_pressure << " MPa (ratio "
+                << statistics.max_pressure / exact.p0 << "), fitted "
+                << fitted.p0 << " MPa (ratio " << fitted.p0 / exact.p0 << ")"
+                << std::endl;
     summary.set("hertz_radius_mm", exact.a);
     summary.set("hertz_max_pressure_MPa", exact.p0);
     summary.set("fitted_radius_mm", fitted.a);
@@ -424,20 +362,19 @@ namespace TKR::Contact
   void
   ContactProblem::output_results()
   {
-    TimerOutput::Scope scope(timer, "output");
-    // Contact pressure, gap and active flag at the slave nodes.
+    TimerOutput::Scope   scope(model.timer, "output");
     const Vector<double> contact =
       Output::surface_fields(*slave,
                              {state.pressure,
                               state.gap,
                               std::vector<double>(state.active.begin(),
                                                   state.active.end())},
-                             elasticity.get_dof_handler().n_dofs());
-    Output::VtuSeries series(parameters.output.directory,
+                             model.elasticity.get_dof_handler().n_dofs());
+    Output::VtuSeries series(model.parameters.output.directory,
                              "solution",
-                             mpi_communicator);
-    Output::write_solution(elasticity,
-                           mapping,
+                             model.communicator);
+    Output::write_solution(model.elasticity,
+                           model.mapping(),
                            series,
                            0,
                            0.,
@@ -454,13 +391,12 @@ namespace TKR::Contact
   bool
   ContactProblem::run()
   {
-    Timer wall_timer(mpi_communicator, /*sync_lap_times=*/true);
-    pcout << "tkr-wear: static two-body contact (Problem = contact)"
-          << std::endl;
-    Output::create_directory(parameters.output.directory, mpi_communicator);
-    summary.set("problem", Parameters::to_string(parameters.problem));
-
-    make_grid();
+    const auto &parameters = model.parameters;
+    model.start("static two-body contact");
+    model.make_grid([&](Triangulation<3> &triangulation) {
+      if (parameters.static_contact.roller_axis >= 0)
+        mark_roller_faces(triangulation, parameters.static_contact.roller_axis);
+    });
     setup_system();
     const ContactStatistics statistics = solve();
     report(statistics);
@@ -473,12 +409,6 @@ namespace TKR::Contact
       compare_with_hertz(statistics);
     if (parameters.output.vtu_interval > 0)
       output_results();
-
-    Output::finish_run(summary,
-                       parameters.output.directory,
-                       mpi_communicator,
-                       wall_timer.wall_time(),
-                       pcout);
-    return statistics.converged;
+    return model.finish(statistics.converged);
   }
-} // namespace TKR::Contact
+} // namespace TKR::Problems

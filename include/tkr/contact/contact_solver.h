@@ -1,0 +1,153 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#ifndef tkr_contact_contact_solver_h
+#define tkr_contact_contact_solver_h
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
+
+#include <deal.II/fe/mapping.h>
+
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/trilinos_vector.h>
+
+#include <tkr/contact/contact_state.h>
+#include <tkr/elasticity/linear_elasticity.h>
+#include <tkr/mortar/mortar_coupling.h>
+#include <tkr/parameters/parameters.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace TKR::Contact
+{
+  /**
+   * What every contact solver offers (DESIGN.md sections 4.4 and 4.5): the
+   * frictionless mortar contact problem between the two linear-elastic
+   * bodies of a LinearElasticity object, coupled by a MortarCoupling, for
+   * given Dirichlet constraints and boundary loads. The implementations
+   * (ActiveSetSolver, CondensedActiveSetSolver, IpoptSolver) solve the same
+   * discrete problem; create them with create_contact_solver().
+   *
+   * The calling sequence: setup() once the Dirichlet constraints and the
+   * springs are known (they must stay the same for every later solve;
+   * the direct solver factorises the stiffness here); add_observation()
+   * for linear functionals of the displacement to be evaluated after
+   * every solve; then, after every MortarCoupling::reinit(), solve().
+   */
+  class ContactSolver
+  {
+  public:
+    ContactSolver(Elasticity::LinearElasticity     &elasticity,
+                  const Mortar::MortarCoupling     &coupling,
+                  const Parameters::ContactSolver  &parameters,
+                  const double                      slave_youngs_modulus,
+                  const MPI_Comm                    mpi_communicator,
+                  const dealii::ConditionalOStream &pcout,
+                  dealii::TimerOutput              &timer);
+
+    virtual ~ContactSolver() = default;
+
+    /**
+     * The Dirichlet constraints @p dirichlet and the springs of @p loads,
+     * on the geometry of @p mapping, for every later solve.
+     */
+    virtual void
+    setup(const dealii::Mapping<3>                &mapping,
+          const dealii::AffineConstraints<double> &dirichlet,
+          const Elasticity::BoundaryLoads         &loads);
+
+    /**
+     * Solve the contact problem on the current coupling for the loads
+     * @p loads (whose springs must be those given to setup()). @p state
+     * holds the initial active set (empty: the nodes whose gap exceeds the
+     * smallest gap by at most @p initial_distance mm) and returns the
+     * final state.
+     */
+    virtual ContactStatistics
+    solve(const dealii::Mapping<3>        &mapping,
+          const Elasticity::BoundaryLoads &loads,
+          const double                     initial_distance,
+          ContactState                    &state) = 0;
+
+    /**
+     * Put the full displacement of the last solve into the
+     * LinearElasticity object (the condensed solver computes only the
+     * contact surfaces and the observations in solve()).
+     */
+    virtual void
+    compute_solution()
+    {}
+
+    /**
+     * Add a linear functional of the displacement, w . u, that every solve
+     * evaluates: @p weights is a right-hand side assembled with the
+     * Dirichlet constraints of setup() (e.g. by
+     * LinearElasticity::assemble_rhs() for a traction whose work is the
+     * functional), which must be homogeneous. Returns the functional's
+     * index for observation().
+     */
+    virtual unsigned int
+    add_observation(const dealii::TrilinosWrappers::MPI::Vector &weights);
+
+    /** Value of functional @p i for the displacement of the last solve. */
+    double
+    observation(const unsigned int i) const
+    {
+      return observed.at(i);
+    }
+
+    /** A short name for the screen ("active set"). */
+    virtual std::string
+    name() const = 0;
+
+    /** The name with the method ("active set, AMG-preconditioned CG"). */
+    virtual std::string
+    description() const = 0;
+
+  protected:
+    /** The observations of the full displacement in LinearElasticity. */
+    void
+    observe_solution();
+
+    Elasticity::LinearElasticity     &elasticity;
+    const Mortar::MortarCoupling     &coupling;
+    const Parameters::ContactSolver   parameters;
+    const double                      slave_youngs_modulus;
+    const MPI_Comm                    mpi_communicator;
+    const dealii::ConditionalOStream  pcout;
+    dealii::TimerOutput              &timer;
+    dealii::AffineConstraints<double> dirichlet;
+
+    /** Weights of the observed functionals and their last values. */
+    std::vector<dealii::TrilinosWrappers::MPI::Vector> observation_weights;
+    std::vector<double>                                observed;
+  };
+
+  /**
+   * The algorithm `Contact solver/Solver` stands for in @p problem:
+   * `auto` is the condensed active set for Problem = wear (one
+   * factorisation of the constant stiffness serves the whole gait cycle)
+   * and the AMG-CG active set otherwise.
+   */
+  Parameters::ContactAlgorithm
+  resolve_algorithm(const Parameters::ContactAlgorithm algorithm,
+                    const Parameters::ProblemType      problem);
+
+  /**
+   * The contact solver of `Contact solver/Solver` (resolved for
+   * `Problem`, see resolve_algorithm()). Throws ExcInputError for a solver
+   * that cannot do the problem (Ipopt for the gait).
+   */
+  std::unique_ptr<ContactSolver>
+  create_contact_solver(const Parameters::AllParameters  &parameters,
+                        Elasticity::LinearElasticity     &elasticity,
+                        const Mortar::MortarCoupling     &coupling,
+                        const MPI_Comm                    mpi_communicator,
+                        const dealii::ConditionalOStream &pcout,
+                        dealii::TimerOutput              &timer);
+} // namespace TKR::Contact
+
+#endif

@@ -1,0 +1,141 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#ifndef tkr_gait_tibia_pose_h
+#define tkr_gait_tibia_pose_h
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/tensor.h>
+
+#include <deal.II/dofs/dof_handler.h>
+
+#include <deal.II/lac/affine_constraints.h>
+
+#include <tkr/elasticity/linear_elasticity.h>
+#include <tkr/gait/gait_loads.h>
+#include <tkr/parameters/parameters.h>
+
+#include <array>
+#include <functional>
+
+namespace TKR::Gait
+{
+  /** The rigid part of the tibia's displacement on its inferior surface. */
+  struct InferiorMotion
+  {
+    /** Mean displacement (mm). */
+    dealii::Tensor<1, 3> mean;
+    /** Best-fitting rotation about +z (deg). */
+    double rotation_z = 0;
+  };
+
+  /**
+   * Where the pose iteration of a step stands: the tibia's rigid
+   * translation (its pose, mm) and the two-rate restraints' excess force
+   * (N, along y) and torque (N mm, about z). A step starts from zero (cold)
+   * or from the converged state of the same step of the previous cycle
+   * (warm).
+   */
+  struct PoseState
+  {
+    dealii::Tensor<1, 3> translation;
+    double               restraint_force  = 0;
+    double               restraint_torque = 0;
+
+    template <class Archive>
+    void
+    serialize(Archive &archive, const unsigned int)
+    {
+      archive &translation &restraint_force &restraint_torque;
+    }
+  };
+
+  /** What the pose iteration of a step did. */
+  struct PoseIteration
+  {
+    /** Updates of the pose (contact solves - 1). */
+    unsigned int n_updates = 0;
+    /** The pose and the restraints met the pose tolerance. */
+    bool converged = false;
+    /** The rigid part of the elastic displacement of the last solve. */
+    InferiorMotion motion;
+  };
+
+  /**
+   * The load-controlled kinematics of the tibia in a gait step (DESIGN.md
+   * section 2): the insert has no displacement condition, its tray may be
+   * rigid (tray constraints), it is loaded by the gait's forces and held
+   * by the restraint springs.
+   *
+   * Under load control the tibia moves by millimetres (AP and ML sliding
+   * in the dishes, rising and sinking with the femur), which a small-
+   * displacement contact model, linearised at the reference position,
+   * cannot follow. So the tibia's reference position carries a rigid
+   * translation (its pose): after a contact solve, the mean displacement of
+   * its inferior surface is added to the pose and the step is solved again
+   * on the moved geometry, until that correction is below the pose
+   * tolerance (iterate()). The springs act on pose plus displacement.
+   */
+  class TibiaPose
+  {
+  public:
+    TibiaPose(const Parameters::Gait &parameters, const GaitLoads &gait_loads);
+
+    /**
+     * The rigid tibial tray (`Tibial tray = rigid`): constraints that let
+     * the inferior surface translate, rotate about z (IE) and ab/adduct
+     * (about y), but not tilt in the sagittal plane. Returns the number of
+     * inferior nodes tied to the tray.
+     */
+    unsigned int
+    add_tray_constraints(const dealii::DoFHandler<3>       &dof_handler,
+                         dealii::AffineConstraints<double> &constraints) const;
+
+    /**
+     * Loads of a step on the tibia in @p pose: the gait's tractions, the
+     * restraint springs acting on pose plus displacement (the pose part is
+     * a traction), the restraints' excess force and torque, and the axial
+     * stabilisation spring. The springs are the same in every step.
+     */
+    Elasticity::BoundaryLoads
+    loads(const GaitState &gait, const PoseState &pose) const;
+
+    /**
+     * The inferior motion as four linear functionals of the displacement
+     * (tractions on `tibia_inferior` whose work is the mean displacement
+     * in x, y, z and the best-fitting rotation about z in degrees): give
+     * them to ContactSolver::add_observation() in this order.
+     */
+    std::array<Elasticity::BoundaryLoads, 4>
+    motion_functionals() const;
+
+    /** The inferior motion from the values of the motion_functionals(). */
+    static InferiorMotion
+    motion_from(const std::array<double, 4> &functionals);
+
+    /**
+     * The pose iteration of one step, from @p pose (updated). @p solve
+     * solves the contact problem for a pose and returns whether it
+     * converged, with the inferior motion of the solution in its second
+     * argument. The two-rate restraints' excess force and torque over
+     * their inner rate (which the stiffness holds) are iterated with the
+     * pose, each update moving them by k / k_beyond of the way to their
+     * value at the new position: a contraction even where the contact
+     * does not hold the tibia. A correction that reverses the previous one
+     * is halved (the fixed-point iteration overshoots).
+     */
+    PoseIteration
+    iterate(PoseState &pose,
+            const std::function<bool(const PoseState &, InferiorMotion &)>
+              &solve) const;
+
+    /** At most this many contact solves per step. */
+    static constexpr unsigned int max_iterations = 40;
+
+  private:
+    const Parameters::Gait parameters;
+    const GaitLoads       &gait_loads;
+  };
+} // namespace TKR::Gait
+
+#endif

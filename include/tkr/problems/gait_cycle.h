@@ -1,0 +1,135 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#ifndef tkr_problems_gait_cycle_h
+#define tkr_problems_gait_cycle_h
+
+#include <deal.II/lac/affine_constraints.h>
+
+#include <tkr/base/mpi.h>
+#include <tkr/contact/contact_solver.h>
+#include <tkr/gait/gait_loads.h>
+#include <tkr/gait/tibia_pose.h>
+#include <tkr/gait/waveform.h>
+#include <tkr/mortar/mortar_coupling.h>
+#include <tkr/output/vtu_output.h>
+#include <tkr/problems/two_body_model.h>
+#include <tkr/wear/step_record.h>
+
+#include <map>
+#include <memory>
+#include <vector>
+
+namespace TKR::Problems
+{
+  /**
+   * One ISO 14243-1 gait cycle on the current geometry of a TwoBodyModel
+   * (DESIGN.md sections 2 and 4): every step is a static contact problem.
+   * The femur, clamped on its fixation surface, is rotated rigidly by the
+   * flexion angle (its displacements live in its co-rotated frame, so its
+   * stiffness never changes); the tibia has no displacement condition, is
+   * loaded on its inferior surface by the gait's forces and held by the
+   * restraint springs, and its pose is iterated (Gait::TibiaPose). The
+   * steps are independent: the MPI ranks are split into step groups that
+   * each solve a share of them on their own model, each step from the same
+   * cold start (so the grouping does not change the result); then every
+   * rank gets every step's record (for the wear) and report.
+   */
+  class GaitCycle
+  {
+  public:
+    GaitCycle(TwoBodyModel &model, const StepGroups &groups);
+
+    /**
+     * The waveform, the loads on the measured inferior surface, the
+     * Dirichlet and tray constraints, the contact surfaces and the contact
+     * solver (set up: the condensed one factorises the stiffness). Call
+     * after TwoBodyModel::distribute_dofs().
+     */
+    void
+    setup();
+
+    /**
+     * Solve this group's steps on the current geometry (printing each
+     * step's line as it is done if there is one group, all of them at the
+     * end otherwise) and gather every step's record and report on every
+     * rank. Returns true if every step converged.
+     */
+    bool
+    solve();
+
+    /** Write the VTU files of the steps kept for output (`VTU interval`). */
+    void
+    output_steps();
+
+    unsigned int
+    n_steps() const
+    {
+      return reports.size();
+    }
+
+    /** Every step's record (after solve()). */
+    const std::vector<Wear::StepRecord> &
+    get_records() const
+    {
+      return records;
+    }
+
+    /** Every step's report (after solve()). */
+    const std::vector<Wear::StepReport> &
+    get_reports() const
+    {
+      return reports;
+    }
+
+    /** The mortar coupling (D_jj of the tibia_contact nodes). */
+    const Mortar::MortarCoupling &
+    get_coupling() const
+    {
+      return *coupling;
+    }
+
+  private:
+    /** Solve step @p step: pose iteration of contact solves, record. */
+    void
+    solve_step(const unsigned int step);
+
+    /**
+     * The vertex positions of a step: the femur's moved by @p femur_motion,
+     * the tibia's translated by @p tibia_pose.
+     */
+    std::vector<dealii::Point<3>>
+    step_positions(const Gait::RigidMotion    &femur_motion,
+                   const dealii::Tensor<1, 3> &tibia_pose) const;
+
+    /** The bodies must not overlap more than the tolerance at 0 %. */
+    void
+    check_initial_overlap() const;
+
+    TwoBodyModel                           &model;
+    const StepGroups                       &groups;
+    std::unique_ptr<Gait::Waveform>         waveform;
+    std::unique_ptr<Gait::GaitLoads>        gait_loads;
+    std::unique_ptr<Gait::TibiaPose>        tibia_pose;
+    dealii::AffineConstraints<double>       dirichlet;
+    std::vector<bool>                       is_femur_vertex;
+    std::unique_ptr<Mortar::ContactSurface> slave, master;
+    std::unique_ptr<Mortar::MortarCoupling> coupling;
+    std::unique_ptr<Contact::ContactSolver> solver;
+    std::vector<Wear::StepRecord>           records;
+    std::vector<Wear::StepReport>           reports;
+
+    /** What the VTU of a step needs (its solution, state and motion). */
+    struct SavedStep
+    {
+      dealii::TrilinosWrappers::MPI::Vector solution;
+      Contact::ContactState                 state;
+      Gait::RigidMotion                     motion;
+    };
+    /** The steps of this group to be written as VTU after the cycle. */
+    std::map<unsigned int, SavedStep>  saved_steps;
+    std::unique_ptr<Output::VtuSeries> step_series;
+  };
+} // namespace TKR::Problems
+
+#endif

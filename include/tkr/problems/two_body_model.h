@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#ifndef tkr_problems_two_body_model_h
+#define tkr_problems_two_body_model_h
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
+
+#include <deal.II/distributed/shared_tria.h>
+
+#include <tkr/elasticity/linear_elasticity.h>
+#include <tkr/output/summary.h>
+#include <tkr/parameters/parameters.h>
+#include <tkr/wear/worn_geometry.h>
+
+#include <functional>
+#include <string>
+
+/**
+ * The drivers of the `Problem = ...` runs (DESIGN.md section 9): the only
+ * code that knows every folder below it. Each driver owns a TwoBodyModel
+ * and adds what its problem needs.
+ */
+namespace TKR::Problems
+{
+  /**
+   * What every problem shares: the parameters, the screen and the timer,
+   * the parallel::shared triangulation with both bodies, their geometry
+   * (Wear::WornGeometry: the mesh, moved by the accumulated wear), the
+   * two-body LinearElasticity on it, the summary.json record and the wall
+   * clock of the run. The verbs frame a run: start(), make_grid(),
+   * distribute_dofs(), ..., finish().
+   */
+  class TwoBodyModel
+  {
+  public:
+    /**
+     * A model whose triangulation and solvers live on @p communicator
+     * (all ranks, or a step group), while screen output and files come
+     * from rank 0 of @p world.
+     */
+    TwoBodyModel(const Parameters::AllParameters &parameters,
+                 const MPI_Comm                   world,
+                 const MPI_Comm                   communicator);
+
+    /**
+     * Print the title line, create the output directory, record the
+     * problem in the summary.
+     */
+    void
+    start(const std::string &title);
+
+    /**
+     * Read the mesh into the triangulation (checked), let @p adjust change
+     * boundary ids (e.g. roller faces), report the mesh and set up the
+     * geometry.
+     */
+    void
+    make_grid(
+      const std::function<void(dealii::Triangulation<3> &)> &adjust = {});
+
+    /** Number the DoFs and record their number in the summary. */
+    void
+    distribute_dofs();
+
+    /**
+     * Record the ranks, the wall time and @p converged in the summary,
+     * write it and say where the results are. Returns @p converged.
+     */
+    bool
+    finish(const bool converged);
+
+    /** The mapping of the current geometry. */
+    const dealii::Mapping<3> &
+    mapping() const
+    {
+      return geometry.get_mapping();
+    }
+
+    const Parameters::AllParameters           &parameters;
+    const MPI_Comm                             world;
+    const MPI_Comm                             communicator;
+    dealii::ConditionalOStream                 pcout;
+    dealii::TimerOutput                        timer;
+    dealii::Timer                              wall_timer;
+    dealii::parallel::shared::Triangulation<3> triangulation;
+    Wear::WornGeometry                         geometry;
+    Elasticity::LinearElasticity               elasticity;
+    Output::Summary                            summary;
+  };
+} // namespace TKR::Problems
+
+#endif

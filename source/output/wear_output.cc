@@ -1,0 +1,178 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#include <deal.II/base/mpi.h>
+
+#include <deal.II/numerics/data_out.h>
+
+#include <tkr/base/exceptions.h>
+#include <tkr/mesh/mesh.h>
+#include <tkr/output/solution_output.h>
+#include <tkr/output/wear_output.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace TKR::Output
+{
+  using namespace dealii;
+
+  std::string
+  step_line(const unsigned int      step,
+            const Wear::StepReport &r,
+            const bool              testing)
+  {
+    std::ostringstream line;
+    line << "  step " << std::setw(3) << step << " (" << std::fixed
+         << std::setprecision(1) << std::setw(5) << r.percent << " %): flexion "
+         << std::setw(5) << r.flexion << " deg, axial " << std::setw(6)
+         << std::setprecision(0) << r.axial_force << " N, " << std::setw(4)
+         << r.active_nodes << " active, " << std::setw(2) << r.newton_iterations
+         << " Newton/" << r.pose_updates << " pose, tibia y "
+         << std::setprecision(2) << std::setw(5) << r.tibia_pose[1] << " z "
+         << std::setw(5) << r.tibia_pose[2] << " mm, max p " << std::setw(6)
+         << r.max_pressure << " MPa"
+         << (r.converged      ? "" :
+             r.pose_converged ? "  NOT CONVERGED" :
+                                "  POSE NOT CONVERGED");
+    if (!testing)
+      line << ", " << std::setprecision(2) << r.wall_time << " s";
+    return line.str();
+  }
+
+  void
+  write_steps_csv(const std::string                   &directory,
+                  const std::vector<Wear::StepReport> &reports,
+                  const MPI_Comm                       mpi_communicator)
+  {
+    if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
+      return;
+    std::ofstream csv(directory + "/steps.csv");
+    csv << "step,percent,flexion_deg,axial_force_N,ap_force_N,"
+           "ie_torque_Nm,active_nodes,newton_iterations,pose_updates,"
+           "max_pressure_MPa,contact_force_N,contact_area_mm2,converged,"
+           "ap_position_mm,ie_rotation_deg\n"
+        << std::setprecision(10);
+    for (unsigned int i = 0; i < reports.size(); ++i)
+      {
+        const Wear::StepReport &r = reports[i];
+        csv << i << ',' << r.percent << ',' << r.flexion << ',' << r.axial_force
+            << ',' << r.ap_force << ',' << r.ie_torque << ',' << r.active_nodes
+            << ',' << r.newton_iterations << ',' << r.pose_updates << ','
+            << r.max_pressure << ',' << r.contact_force << ',' << r.contact_area
+            << ',' << r.converged << ',' << r.tibia_pose[1] << ','
+            << r.ie_rotation << '\n';
+      }
+  }
+
+  WearHistory::WearHistory(const std::string &directory,
+                           const bool         testing,
+                           const MPI_Comm     mpi_communicator)
+    : filename(directory + "/wear_history.csv")
+    , testing(testing)
+    , mpi_communicator(mpi_communicator)
+  {}
+
+  void
+  WearHistory::append(const WearHistoryRow &row)
+  {
+    rows.push_back(row);
+    if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
+      return;
+    const std::string temporary = filename + ".tmp";
+    {
+      std::ofstream csv(temporary);
+      AssertThrow(csv.good(),
+                  ExcInputError("Cannot write <" + temporary + ">."));
+      csv << "block,cycles,volume_mm3,mass_mg,max_depth_mm,"
+             "wear_area_percent,peak_pressure_MPa,max_contact_area_mm2"
+          << (testing ? "" : ",wall_time_s") << '\n'
+          << std::setprecision(10);
+      for (const auto &r : rows)
+        {
+          csv << r.block << ',' << r.cycles << ',' << r.volume << ',' << r.mass
+              << ',' << r.max_depth << ',' << r.wear_area_percent << ','
+              << r.peak_pressure << ',' << r.max_contact_area;
+          if (!testing)
+            csv << ',' << r.wall_time;
+          csv << '\n';
+        }
+    }
+    AssertThrow(std::rename(temporary.c_str(), filename.c_str()) == 0,
+                ExcInputError("Cannot write <" + filename + ">."));
+  }
+
+  // The motion field is the displacement in the global frame: the femur's
+  // elastic displacement is stored in its co-rotated frame, so its points
+  // move by M(X) + R u - X.
+  void
+  write_step(const Elasticity::LinearElasticity &elasticity,
+             const Mapping<3>                   &mapping,
+             const StepFields                   &fields,
+             VtuSeries                          &series,
+             const unsigned int                  index)
+  {
+    const auto              &dof_handler = elasticity.get_dof_handler();
+    const auto              &solution    = elasticity.get_solution();
+    const auto              &state       = *fields.state;
+    const Gait::RigidMotion &motion      = fields.femur_motion;
+    const Vector<double>     contact =
+      surface_fields(*fields.slave_surface,
+                     {state.pressure,
+                      state.gap,
+                      std::vector<double>(state.active.begin(),
+                                          state.active.end())},
+                     dof_handler.n_dofs());
+    const Vector<double> interval =
+      surface_fields(*fields.slave_surface,
+                     {fields.slip_to_next, fields.wear_to_next, {}},
+                     dof_handler.n_dofs());
+    Vector<double>                       motion_field(dof_handler.n_dofs());
+    std::vector<types::global_dof_index> dofs(3);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const auto v : cell->vertex_indices())
+          {
+            Tensor<1, 3> u;
+            for (unsigned int c = 0; c < 3; ++c)
+              {
+                dofs[c] = cell->vertex_dof_index(v, c);
+                u[c]    = solution[dofs[c]];
+              }
+            const Point<3>    &X = cell->vertex(v);
+            const Tensor<1, 3> d =
+              cell->material_id() == Mesh::MaterialIds::femur ?
+                Tensor<1, 3>(motion(X) + motion.rotation * u - X) :
+                u;
+            for (unsigned int c = 0; c < 3; ++c)
+              motion_field(dofs[c]) = d[c];
+          }
+    write_solution(
+      elasticity,
+      mapping,
+      series,
+      index,
+      index,
+      [&](DataOut<3> &data_out) {
+        data_out.add_data_vector(contact,
+                                 std::vector<std::string>{"contact_pressure",
+                                                          "gap",
+                                                          "active"},
+                                 DataOut<3>::type_dof_data);
+        data_out.add_data_vector(interval,
+                                 std::vector<std::string>{"slip_to_next_mm",
+                                                          "wear_to_next_pm",
+                                                          "unused"},
+                                 DataOut<3>::type_dof_data);
+        data_out.add_data_vector(
+          motion_field,
+          std::vector<std::string>(3, "motion"),
+          DataOut<3>::type_dof_data,
+          std::vector<DataComponentInterpretation::DataComponentInterpretation>(
+            3,
+            DataComponentInterpretation::component_is_part_of_vector));
+      });
+  }
+} // namespace TKR::Output
