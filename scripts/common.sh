@@ -4,7 +4,7 @@
 set -euo pipefail
 
 TKR_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-TKR_PACKAGES="libdeal.ii-dev gmsh coinor-libipopt-dev numdiff clang-format cmake g++ make pkg-config"
+TKR_PACKAGES="libdeal.ii-dev gmsh coinor-libipopt-dev numdiff clang-format cmake g++ make pkg-config python3-matplotlib python3-numpy"
 TKR_JOBS=${TKR_JOBS:-$(nproc)}
 
 # OpenMPI refuses to start as root unless told that this is intended.

@@ -1,0 +1,98 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Test of scripts/plot-wear on a tiny synthetic output directory (a 10 x 10
+# node grid with a Gaussian wear depth, a 5-row history): both PNGs are
+# written and valid, and input errors give exit code 1 and one line.
+# Run from anywhere: bash tests/scripts/plot_wear_test.sh. Exit code 0 only
+# when every check passed. Needs python3 and Debian's python3-matplotlib
+# and python3-numpy (plot-wear finds /usr/bin/python3 by itself).
+set -uo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+plot="$root/scripts/plot-wear"
+measured="$root/data/measured/example-gravimetric.csv"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+n_passed=0
+n_failed=0
+
+check() { # check DESCRIPTION COMMAND...: count a pass or a failure
+  local what=$1
+  shift
+  if "$@"; then
+    n_passed=$((n_passed + 1))
+  else
+    n_failed=$((n_failed + 1))
+    echo "FAILED: $what" >&2
+  fi
+}
+
+# is_png FILE: PNG signature, an IHDR of at least 300 x 300 pixels, > 10 kB
+is_png() {
+  local file=$1
+  [[ -f "$file" ]] || { echo "  $file: missing" >&2; return 1; }
+  local signature size
+  signature=$(head -c 16 "$file" | od -An -tx1 | tr -d ' \n')
+  [[ "$signature" == 89504e470d0a1a0a0000000d49484452 ]] ||
+    { echo "  $file: not a PNG (starts with $signature)" >&2; return 1; }
+  local b
+  read -r -a b < <(od -An -tu1 -j16 -N8 "$file")
+  local width=$(((b[0] << 24) | (b[1] << 16) | (b[2] << 8) | b[3]))
+  local height=$(((b[4] << 24) | (b[5] << 16) | (b[6] << 8) | b[7]))
+  size=$(wc -c <"$file")
+  echo "  $(basename "$file"): ${width} x ${height} pixels, $size bytes"
+  ((width >= 300 && height >= 300 && size > 10000)) ||
+    { echo "  $file: too small" >&2; return 1; }
+}
+
+one_line_error() { # one_line_error STDERR_FILE EXIT_CODE PATTERN
+  local lines
+  lines=$(wc -l <"$1")
+  [[ $2 -eq 1 && $lines -eq 1 ]] && grep -q -- "$3" "$1" &&
+    ! grep -q Traceback "$1" ||
+    {
+      echo "  exit code $2, $lines lines of stderr:" >&2
+      cat "$1" >&2
+      return 1
+    }
+}
+
+echo "== plot-wear on a synthetic output directory ($work)"
+python3 "$root/tests/scripts/make_synthetic_output.py" "$work/run"
+"$plot" "$work/run" --measured "$measured" --title "Synthetic test case" \
+  2>"$work/stderr"
+status=$?
+check "plot-wear exits 0 (got $status)" test $status -eq 0
+check "plot-wear prints nothing on stderr" test ! -s "$work/stderr"
+cat "$work/stderr" >&2
+check "mass_loss.png is a PNG" is_png "$work/run/mass_loss.png"
+check "wear_map.png is a PNG" is_png "$work/run/wear_map.png"
+
+check "--help exits 0" "$plot" --help >/dev/null
+
+echo "== input errors"
+cp -r "$work/run" "$work/no_history"
+rm "$work/no_history/wear_history.csv"
+"$plot" "$work/no_history" 2>"$work/stderr"
+status=$?
+cat "$work/stderr"
+check "missing wear_history.csv: exit 1, one line" \
+  one_line_error "$work/stderr" $status "wear_history.csv: no such file"
+
+cp -r "$work/run" "$work/no_column"
+sed -i '1s/mass_mg/mass/' "$work/no_column/wear_history.csv"
+"$plot" "$work/no_column" 2>"$work/stderr"
+status=$?
+cat "$work/stderr"
+check "missing column mass_mg: exit 1, one line" \
+  one_line_error "$work/stderr" $status "missing column mass_mg"
+
+cp -r "$work/run" "$work/bad_face"
+echo "0,1,2,100" >>"$work/bad_face/wear_map_faces.csv"
+"$plot" "$work/bad_face" 2>"$work/stderr"
+status=$?
+cat "$work/stderr"
+check "node index out of range: exit 1, one line" \
+  one_line_error "$work/stderr" $status "must be integers in 0..99"
+
+echo "$n_passed passed, $n_failed failed"
+[[ $n_failed -eq 0 ]]
