@@ -36,19 +36,6 @@ namespace TKR::Output
     summary.set("tibia_volume_mm3", statistics.tibia_volume);
   }
 
-  Vector<double>
-  surface_fields(const Mortar::ContactSurface           &surface,
-                 const std::vector<std::vector<double>> &fields,
-                 const unsigned int                      n_dofs)
-  {
-    Assert(fields.size() <= 3, ExcMessage("At most three fields per vector."));
-    Vector<double> vector(n_dofs);
-    for (unsigned int c = 0; c < fields.size(); ++c)
-      for (unsigned int j = 0; j < fields[c].size(); ++j)
-        vector(surface.nodes()[j].dofs[c]) = fields[c][j];
-    return vector;
-  }
-
   void
   finish_run(Summary                  &summary,
              const std::string        &directory,
@@ -70,6 +57,7 @@ namespace TKR::Output
                  VtuSeries                               &series,
                  const unsigned int                       index,
                  const double                             time,
+                 const std::vector<SurfaceFields>        &surface_fields,
                  const std::function<void(DataOut<3> &)> &add_fields)
   {
     const auto &dof_handler   = elasticity.get_dof_handler();
@@ -99,6 +87,24 @@ namespace TKR::Output
       }
     data_out.add_data_vector(material, "material_id");
     data_out.add_data_vector(subdomain, "subdomain");
+    // DataOut keeps references: the vectors live until the patches are
+    // built.
+    std::vector<Vector<double>> surface_vectors(surface_fields.size(),
+                                                Vector<double>(
+                                                  dof_handler.n_dofs()));
+    for (unsigned int i = 0; i < surface_fields.size(); ++i)
+      {
+        const auto &fields = surface_fields[i];
+        Assert(fields.values.size() <= 3 && fields.names.size() == 3,
+               ExcMessage("Three names and at most three fields."));
+        for (unsigned int c = 0; c < fields.values.size(); ++c)
+          for (unsigned int j = 0; j < fields.values[c].size(); ++j)
+            surface_vectors[i](fields.surface->nodes()[j].dofs[c]) =
+              fields.values[c][j];
+        data_out.add_data_vector(surface_vectors[i],
+                                 fields.names,
+                                 DataOut<3>::type_dof_data);
+      }
     if (add_fields)
       add_fields(data_out);
     data_out.build_patches(mapping, dof_handler.get_fe().degree);

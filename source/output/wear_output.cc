@@ -118,18 +118,7 @@ namespace TKR::Output
     const auto              &solution    = elasticity.get_solution();
     const auto              &state       = *fields.state;
     const Gait::RigidMotion &motion      = fields.femur_motion;
-    const Vector<double>     contact =
-      surface_fields(*fields.slave_surface,
-                     {state.pressure,
-                      state.gap,
-                      std::vector<double>(state.active.begin(),
-                                          state.active.end())},
-                     dof_handler.n_dofs());
-    const Vector<double> interval =
-      surface_fields(*fields.slave_surface,
-                     {fields.slip_to_next, fields.wear_to_next, {}},
-                     dof_handler.n_dofs());
-    Vector<double>                       motion_field(dof_handler.n_dofs());
+    Vector<double>           motion_field(dof_handler.n_dofs());
     std::vector<types::global_dof_index> dofs(3);
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -155,17 +144,15 @@ namespace TKR::Output
       series,
       index,
       index,
+      {{fields.slave_surface,
+        {"contact_pressure", "gap", "active"},
+        {state.pressure,
+         state.gap,
+         std::vector<double>(state.active.begin(), state.active.end())}},
+       {fields.slave_surface,
+        {"slip_to_next_mm", "wear_to_next_pm", "unused"},
+        {fields.slip_to_next, fields.wear_to_next}}},
       [&](DataOut<3> &data_out) {
-        data_out.add_data_vector(contact,
-                                 std::vector<std::string>{"contact_pressure",
-                                                          "gap",
-                                                          "active"},
-                                 DataOut<3>::type_dof_data);
-        data_out.add_data_vector(interval,
-                                 std::vector<std::string>{"slip_to_next_mm",
-                                                          "wear_to_next_pm",
-                                                          "unused"},
-                                 DataOut<3>::type_dof_data);
         data_out.add_data_vector(
           motion_field,
           std::vector<std::string>(3, "motion"),

@@ -111,27 +111,21 @@ namespace TKR::Problems
 
     {
       TimerOutput::Scope scope(model.timer, "mortar coupling");
-      slave = std::make_unique<Mortar::ContactSurface>(
-        dof_handler,
-        Mesh::BoundaryIds::tibia_contact);
-      master = std::make_unique<Mortar::ContactSurface>(
-        dof_handler,
-        Mesh::BoundaryIds::femur_contact);
-      coupling = std::make_unique<Mortar::MortarCoupling>(*slave, *master);
-      coupling->reinit(model.geometry.vertex_positions(),
-                       parameters.contact_solver.search_distance);
+      model.setup_contact_surfaces();
+      model.coupling->reinit(model.geometry.vertex_positions(),
+                             parameters.contact_solver.search_distance);
     }
-    const auto &cs = coupling->statistics();
+    const auto &cs = model.coupling->statistics();
     model.pcout << "Mortar coupling: " << cs.n_slave_faces << " slave faces, "
                 << cs.n_master_faces << " master faces, "
                 << cs.n_overlapping_pairs << " overlapping face pairs, "
-                << cs.n_covered_nodes << " of " << slave->nodes().size()
+                << cs.n_covered_nodes << " of " << model.slave->nodes().size()
                 << " slave nodes face the femur" << std::endl;
     check_initial_gaps();
 
     solver = Contact::create_contact_solver(parameters,
                                             model.elasticity,
-                                            *coupling,
+                                            *model.coupling,
                                             model.communicator,
                                             model.pcout,
                                             model.timer);
@@ -144,10 +138,10 @@ namespace TKR::Problems
   ContactProblem::check_initial_gaps() const
   {
     const auto &parameters        = model.parameters;
-    const auto [min_gap, closest] = Contact::smallest_gap(*coupling);
+    const auto [min_gap, closest] = Contact::smallest_gap(*model.coupling);
     const bool loaded             = parameters.static_contact.tibia_inferior ==
                         Parameters::TibiaSupport::loaded;
-    AssertThrow(coupling->statistics().n_covered_nodes > 0 || !loaded,
+    AssertThrow(model.coupling->statistics().n_covered_nodes > 0 || !loaded,
                 ExcInputError(
                   "With Tibia inferior = loaded the tibia is held only by "
                   "contact, but no part of tibia_contact faces femur_contact "
@@ -156,10 +150,10 @@ namespace TKR::Problems
                     parameters.contact_solver.search_distance) +
                   " mm): the bodies do not touch and the problem is "
                   "singular."));
-    if (coupling->statistics().n_covered_nodes == 0)
+    if (model.coupling->statistics().n_covered_nodes == 0)
       return;
     const Point<3> &x =
-      model.geometry.vertex_positions()[slave->nodes()[closest].vertex];
+      model.geometry.vertex_positions()[model.slave->nodes()[closest].vertex];
     const std::string where = "(" + format_number(x[0]) + ", " +
                               format_number(x[1]) + ", " + format_number(x[2]) +
                               ")";
@@ -212,7 +206,7 @@ namespace TKR::Problems
 
     Contact::ContactState ipopt_state;
     Contact::IpoptSolver  ipopt(elasticity,
-                               *coupling,
+                               *model.coupling,
                                model.parameters.contact_solver,
                                model.parameters.materials.tibia.youngs_modulus,
                                model.communicator,
@@ -316,7 +310,8 @@ namespace TKR::Problems
     for (unsigned int j = 0; j < state.active.size(); ++j)
       if (state.active[j])
         {
-          centre += state.pressure[j] * vertices[slave->nodes()[j].vertex];
+          centre +=
+            state.pressure[j] * vertices[model.slave->nodes()[j].vertex];
           weight += state.pressure[j];
         }
     centre /= weight;
@@ -324,7 +319,7 @@ namespace TKR::Problems
     for (unsigned int j = 0; j < state.active.size(); ++j)
       if (state.active[j])
         {
-          Tensor<1, 3> d = vertices[slave->nodes()[j].vertex] - centre;
+          Tensor<1, 3> d = vertices[model.slave->nodes()[j].vertex] - centre;
           d[2]           = 0;
           if (!is_sphere)
             d[0] = 0;
@@ -362,15 +357,8 @@ namespace TKR::Problems
   void
   ContactProblem::output_results()
   {
-    TimerOutput::Scope   scope(model.timer, "output");
-    const Vector<double> contact =
-      Output::surface_fields(*slave,
-                             {state.pressure,
-                              state.gap,
-                              std::vector<double>(state.active.begin(),
-                                                  state.active.end())},
-                             model.elasticity.get_dof_handler().n_dofs());
-    Output::VtuSeries series(model.parameters.output.directory,
+    TimerOutput::Scope scope(model.timer, "output");
+    Output::VtuSeries  series(model.parameters.output.directory,
                              "solution",
                              model.communicator);
     Output::write_solution(model.elasticity,
@@ -378,14 +366,12 @@ namespace TKR::Problems
                            series,
                            0,
                            0.,
-                           [&](DataOut<3> &data_out) {
-                             data_out.add_data_vector(
-                               contact,
-                               std::vector<std::string>{"contact_pressure",
-                                                        "gap",
-                                                        "active"},
-                               DataOut<3>::type_dof_data);
-                           });
+                           {{model.slave.get(),
+                             {"contact_pressure", "gap", "active"},
+                             {state.pressure,
+                              state.gap,
+                              std::vector<double>(state.active.begin(),
+                                                  state.active.end())}}});
   }
 
   bool

@@ -64,13 +64,7 @@ namespace TKR::Problems
       }
     dirichlet.close();
 
-    slave = std::make_unique<Mortar::ContactSurface>(
-      dof_handler,
-      Mesh::BoundaryIds::tibia_contact);
-    master = std::make_unique<Mortar::ContactSurface>(
-      dof_handler,
-      Mesh::BoundaryIds::femur_contact);
-    coupling = std::make_unique<Mortar::MortarCoupling>(*slave, *master);
+    model.setup_contact_surfaces();
 
     // The stiffness (with the springs) is the same in every step and pose
     // update; the rigid part of the tibia's motion is read through linear
@@ -79,7 +73,7 @@ namespace TKR::Problems
     solver =
       Contact::create_contact_solver(parameters,
                                      model.elasticity,
-                                     *coupling,
+                                     *model.coupling,
                                      groups.communicator,
                                      ConditionalOStream(std::cout, false),
                                      model.timer);
@@ -105,7 +99,8 @@ namespace TKR::Problems
       step_series =
         std::make_unique<Output::VtuSeries>(parameters.output.directory,
                                             "step",
-                                            groups.communicator);
+                                            groups.communicator,
+                                            model.world);
   }
 
   std::vector<Point<3>>
@@ -124,7 +119,7 @@ namespace TKR::Problems
   void
   GaitCycle::check_initial_overlap() const
   {
-    const double min_gap = Contact::smallest_gap(*coupling).first;
+    const double min_gap = Contact::smallest_gap(*model.coupling).first;
     AssertThrow(min_gap >= -model.parameters.contact_solver.overlap_tolerance,
                 ExcInputError("At 0 % of the cycle the femur penetrates the "
                               "insert by " +
@@ -154,11 +149,11 @@ namespace TKR::Problems
                            Gait::InferiorMotion  &inferior) {
       {
         TimerOutput::Scope scope(model.timer, "mortar coupling");
-        coupling->reinit(step_positions(motion, pose.translation),
-                         parameters.contact_solver.search_distance,
-                         motion.rotation);
+        model.coupling->reinit(step_positions(motion, pose.translation),
+                               parameters.contact_solver.search_distance,
+                               motion.rotation);
       }
-      AssertThrow(coupling->statistics().n_covered_nodes > 0,
+      AssertThrow(model.coupling->statistics().n_covered_nodes > 0,
                   ExcInputError("Gait step " + std::to_string(step) +
                                 ": no part of tibia_contact faces "
                                                 "femur_contact within the search "
@@ -181,7 +176,7 @@ namespace TKR::Problems
     const Gait::PoseIteration iteration = tibia_pose->iterate(pose, solve);
 
     // The record holds the tibia's full displacement (pose plus elastic).
-    records[step] = Wear::make_step_record(*coupling, state, motion);
+    records[step] = Wear::make_step_record(*model.coupling, state, motion);
     for (auto &u : records[step].displacement)
       u += pose.translation;
     Wear::StepReport &report = reports[step];
@@ -253,7 +248,7 @@ namespace TKR::Problems
       {
         model.elasticity.set_solution(saved.solution);
         Output::StepFields fields;
-        fields.slave_surface = slave.get();
+        fields.slave_surface = model.slave.get();
         fields.state         = &saved.state;
         fields.femur_motion  = saved.motion;
         fields.wear_to_next =
@@ -269,5 +264,6 @@ namespace TKR::Problems
                            *step_series,
                            step);
       }
+    step_series->write_record();
   }
 } // namespace TKR::Problems

@@ -70,6 +70,19 @@ namespace TKR::Problems
                   elasticity.get_dof_handler().n_dofs()));
   }
 
+  void
+  TwoBodyModel::setup_contact_surfaces()
+  {
+    const auto &dof_handler = elasticity.get_dof_handler();
+    slave                   = std::make_unique<Mortar::ContactSurface>(
+      dof_handler,
+      Mesh::BoundaryIds::tibia_contact);
+    master = std::make_unique<Mortar::ContactSurface>(
+      dof_handler,
+      Mesh::BoundaryIds::femur_contact);
+    coupling = std::make_unique<Mortar::MortarCoupling>(*slave, *master);
+  }
+
   bool
   TwoBodyModel::finish(const bool converged)
   {

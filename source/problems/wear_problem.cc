@@ -130,10 +130,6 @@ namespace TKR::Problems
     std::vector<double> depth_nm(wear_depth.size());
     for (unsigned int j = 0; j < wear_depth.size(); ++j)
       depth_nm[j] = 1e6 * wear_depth[j];
-    const Vector<double> fields =
-      Output::surface_fields(cycle.get_coupling().slave_surface(),
-                             {depth_nm, slip, {}},
-                             model.elasticity.get_dof_handler().n_dofs());
     Output::VtuSeries series(parameters.output.directory,
                              "wear",
                              groups.communicator);
@@ -142,14 +138,9 @@ namespace TKR::Problems
                            series,
                            0,
                            0.,
-                           [&](DataOut<3> &data_out) {
-                             data_out.add_data_vector(
-                               fields,
-                               std::vector<std::string>{"wear_depth_nm",
-                                                        "slip_mm",
-                                                        "unused"},
-                               DataOut<3>::type_dof_data);
-                           });
+                           {{&cycle.get_coupling().slave_surface(),
+                             {"wear_depth_nm", "slip_mm", "unused"},
+                             {depth_nm, slip}}});
   }
 
   bool

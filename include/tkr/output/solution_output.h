@@ -35,15 +35,15 @@ namespace TKR::Output
               const bool                        testing);
 
   /**
-   * Up to three scalar fields given per node of a contact @p surface (e.g.
-   * pressure, gap, active flag), stored in the three displacement
-   * components of a vector over all @p n_dofs DoFs (zero elsewhere), so that
-   * DataOut writes them on the same mesh. Empty fields stay zero.
+   * Up to three scalar fields given per node of a contact surface (e.g.
+   * pressure, gap, active flag) and their names, for write_solution().
    */
-  dealii::Vector<double>
-  surface_fields(const Mortar::ContactSurface           &surface,
-                 const std::vector<std::vector<double>> &fields,
-                 const unsigned int                      n_dofs);
+  struct SurfaceFields
+  {
+    const Mortar::ContactSurface    *surface;
+    std::vector<std::string>         names;
+    std::vector<std::vector<double>> values;
+  };
 
   /**
    * End of a run: record the number of MPI ranks and (unless @p testing)
@@ -61,8 +61,10 @@ namespace TKR::Output
   /**
    * Write the displacement, the stress tensor, the von Mises stress, the
    * material id and the MPI partition of @p elasticity as output @p index
-   * of @p series; @p add_fields may attach further data vectors (on the
-   * same DoFHandler) before the patches are built.
+   * of @p series, with the @p surface_fields (stored in the displacement
+   * components of vectors on the same DoFHandler, zero away from their
+   * surface); @p add_fields may attach further data vectors before the
+   * patches are built.
    */
   void
   write_solution(
@@ -71,7 +73,8 @@ namespace TKR::Output
     VtuSeries                                       &series,
     const unsigned int                               index,
     const double                                     time,
-    const std::function<void(dealii::DataOut<3> &)> &add_fields = {});
+    const std::vector<SurfaceFields>                &surface_fields = {},
+    const std::function<void(dealii::DataOut<3> &)> &add_fields     = {});
 } // namespace TKR::Output
 
 #endif

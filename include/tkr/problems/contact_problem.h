@@ -43,7 +43,7 @@ namespace TKR::Problems
     const Mortar::MortarCoupling &
     get_coupling() const
     {
-      return *coupling;
+      return *model.coupling;
     }
 
   private:
@@ -63,8 +63,6 @@ namespace TKR::Problems
     output_results();
 
     TwoBodyModel                            model;
-    std::unique_ptr<Mortar::ContactSurface> slave, master;
-    std::unique_ptr<Mortar::MortarCoupling> coupling;
     std::unique_ptr<Contact::ContactSolver> solver;
     dealii::AffineConstraints<double>       dirichlet;
     Elasticity::BoundaryLoads               loads;

@@ -86,7 +86,7 @@ namespace TKR::Problems
     const Mortar::MortarCoupling &
     get_coupling() const
     {
-      return *coupling;
+      return *model.coupling;
     }
 
   private:

@@ -10,11 +10,13 @@
 #include <deal.II/distributed/shared_tria.h>
 
 #include <tkr/elasticity/linear_elasticity.h>
+#include <tkr/mortar/mortar_coupling.h>
 #include <tkr/output/summary.h>
 #include <tkr/parameters/parameters.h>
 #include <tkr/wear/worn_geometry.h>
 
 #include <functional>
+#include <memory>
 #include <string>
 
 /**
@@ -65,6 +67,14 @@ namespace TKR::Problems
     distribute_dofs();
 
     /**
+     * The contact surfaces, `tibia_contact` (slave) and `femur_contact`
+     * (master), and their mortar coupling (not yet computed). Call after
+     * distribute_dofs().
+     */
+    void
+    setup_contact_surfaces();
+
+    /**
      * Record the ranks, the wall time and @p converged in the summary,
      * write it and say where the results are. Returns @p converged.
      */
@@ -87,6 +97,8 @@ namespace TKR::Problems
     dealii::parallel::shared::Triangulation<3> triangulation;
     Wear::WornGeometry                         geometry;
     Elasticity::LinearElasticity               elasticity;
+    std::unique_ptr<Mortar::ContactSurface>    slave, master;
+    std::unique_ptr<Mortar::MortarCoupling>    coupling;
     Output::Summary                            summary;
   };
 } // namespace TKR::Problems

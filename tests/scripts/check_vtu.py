@@ -1,0 +1,160 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""check_vtu.py RESULTS_DIR FLEXION_AXIS_POINT
+
+Checks the content of the VTU output of a wear run (Problem = wear with
+VTU interval = 1) against its steps.csv and summary.json:
+  - step.pvd lists every step of steps.csv, each .pvtu and its pieces exist
+    and hold the fields of the step output;
+  - per step: the largest contact_pressure on the tibia equals
+    max_pressure_MPa, the number of distinct nodes with active = 1 equals
+    active_nodes, and the femur's 'motion' field is the rigid flexion
+    rotation about the x axis through FLEXION_AXIS_POINT by flexion_deg
+    (plus the femur's elastic displacement, below 0.01 mm);
+  - wear.pvd: the largest wear_depth_nm equals max_wear_depth_mm.
+Prints one line per check with O(1) numbers; exits 1 on the first failure.
+Reads deal.II's zlib-compressed, base64-encoded VTU files with numpy only.
+"""
+import base64
+import csv
+import json
+import math
+import os
+import re
+import sys
+import zlib
+import xml.etree.ElementTree as ET
+
+import numpy as np
+
+TYPES = {"Float32": np.float32, "Float64": np.float64, "Int32": np.int32,
+         "UInt8": np.uint8, "Int64": np.int64, "UInt32": np.uint32}
+
+
+def fail(message):
+    print("check_vtu: FAILED: " + message)
+    sys.exit(1)
+
+
+def decode(text, dtype):
+    """An inline binary DataArray of a zlib-compressed VTU file (UInt32 header)."""
+    text = "".join(text.split())
+    first = base64.b64decode(text[:8])
+    n_blocks = int(np.frombuffer(first[:4], np.uint32)[0])
+    header_length = 4 * math.ceil(4 * (3 + n_blocks) / 3)
+    header = np.frombuffer(base64.b64decode(text[:header_length]), np.uint32)
+    sizes = header[3:3 + n_blocks]
+    payload = base64.b64decode(text[header_length:])
+    data, offset = b"", 0
+    for size in sizes:
+        data += zlib.decompress(payload[offset:offset + int(size)])
+        offset += int(size)
+    return np.frombuffer(data, dtype)
+
+
+def read_vtu(path):
+    """Points (n, 3) and point data {name: array (n, components)} of a .vtu."""
+    root = ET.parse(path).getroot()
+    if root.get("compressor") != "vtkZLibDataCompressor":
+        fail(path + ": not a zlib-compressed VTU file")
+    piece = root.find("UnstructuredGrid/Piece")
+    points_array = piece.find("Points/DataArray")
+    points = decode(points_array.text, TYPES[points_array.get("type")]).reshape(-1, 3)
+    fields = {}
+    for array in piece.find("PointData").findall("DataArray"):
+        components = int(array.get("NumberOfComponents", "1"))
+        values = decode(array.text, TYPES[array.get("type")])
+        fields[array.get("Name")] = values.reshape(-1, components)
+    return points, fields
+
+
+def read_series(directory, name):
+    """[(time, points, fields)] of NAME.pvd, all pieces joined."""
+    pvd = os.path.join(directory, name + ".pvd")
+    if not os.path.isfile(pvd):
+        fail(pvd + " is missing")
+    series = []
+    for dataset in ET.parse(pvd).getroot().iter("DataSet"):
+        pvtu = os.path.join(directory, dataset.get("file"))
+        if not os.path.isfile(pvtu):
+            fail(pvtu + " (listed in " + name + ".pvd) is missing")
+        points, fields = [], {}
+        for piece in ET.parse(pvtu).getroot().iter("Piece"):
+            path = os.path.join(directory, piece.get("Source"))
+            if not os.path.isfile(path):
+                fail(path + " (listed in " + pvtu + ") is missing")
+            p, f = read_vtu(path)
+            points.append(p)
+            for key, value in f.items():
+                fields.setdefault(key, []).append(value)
+        series.append((float(dataset.get("timestep")), np.vstack(points),
+                       {k: np.vstack(v) for k, v in fields.items()}))
+    return series
+
+
+def close(a, b, rel):
+    return abs(a - b) <= rel * max(abs(a), abs(b), 1e-30)
+
+
+def main():
+    if len(sys.argv) != 3:
+        print(__doc__)
+        sys.exit(2)
+    directory = sys.argv[1]
+    axis_point = np.array([float(v) for v in re.split(r"[ ,]+", sys.argv[2].strip())])
+    with open(os.path.join(directory, "steps.csv")) as f:
+        steps = list(csv.DictReader(f))
+    with open(os.path.join(directory, "summary.json")) as f:
+        summary = json.load(f)
+
+    series = read_series(directory, "step")
+    times = [int(round(t)) for t, _, _ in series]
+    if times != list(range(len(steps))):
+        fail("step.pvd lists the steps %s, steps.csv has %d" % (times, len(steps)))
+    print("step.pvd: %d steps, each with its pieces" % len(series))
+    needed = {"displacement", "contact_pressure", "gap", "active", "motion",
+              "slip_to_next_mm", "wear_to_next_pm", "material_id"}
+    for (time, points, fields), row in zip(series, steps):
+        step = int(round(time))
+        missing = needed - set(fields)
+        if missing:
+            fail("step %d lacks the fields %s" % (step, sorted(missing)))
+        tibia = fields["material_id"][:, 0] == 1
+        pressure = fields["contact_pressure"][tibia, 0]
+        expected = float(row["max_pressure_MPa"])
+        if not close(pressure.max(), expected, 1e-5):
+            fail("step %d: largest contact_pressure %g, steps.csv %g"
+                 % (step, pressure.max(), expected))
+        active = points[tibia][fields["active"][tibia, 0] > 0.5]
+        n_active = len({tuple(p) for p in active})
+        if n_active != int(row["active_nodes"]):
+            fail("step %d: %d active nodes in the VTU, steps.csv %s"
+                 % (step, n_active, row["active_nodes"]))
+        theta = math.radians(float(row["flexion_deg"]))
+        rotation = np.array([[1, 0, 0],
+                             [0, math.cos(theta), -math.sin(theta)],
+                             [0, math.sin(theta), math.cos(theta)]])
+        femur = ~tibia
+        X = points[femur].astype(float)
+        rigid = (X - axis_point) @ rotation.T + axis_point - X
+        elastic = np.abs(fields["motion"][femur] - rigid).max()
+        if elastic > 0.01:
+            fail("step %d: the femur's motion differs from the flexion by %g mm"
+                 % (step, elastic))
+        print("step %d: max pressure / steps.csv = %.6f, active nodes %d, "
+              "femur motion = flexion of %.1f deg to 0.01 mm"
+              % (step, pressure.max() / expected, n_active, float(row["flexion_deg"])))
+
+    wear = read_series(directory, "wear")
+    if len(wear) != 1:
+        fail("wear.pvd lists %d outputs, expected 1" % len(wear))
+    depth = wear[0][2]["wear_depth_nm"][:, 0].max()
+    expected = 1e6 * float(summary["max_wear_depth_mm"])
+    if not close(depth, expected, 1e-5):
+        fail("largest wear_depth_nm %g, summary.json %g" % (depth, expected))
+    print("wear: largest wear_depth_nm / summary.json = %.6f" % (depth / expected))
+    print("check_vtu: all checks passed")
+
+
+if __name__ == "__main__":
+    main()
