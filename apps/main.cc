@@ -22,6 +22,8 @@ namespace
   {
     out
       << "Usage: tkr-wear FILE.prm           run the problem the file describes\n"
+      << "       tkr-wear --resume FILE.prm  continue a wear run from the "
+         "checkpoint in its output directory\n"
       << "       tkr-wear --print-parameters write the documented default "
          "parameter file\n"
       << "       tkr-wear --help             this text\n"
@@ -30,11 +32,18 @@ namespace
 
   /** Run the problem; returns the process exit code. */
   int
-  run(const std::string &filename, const MPI_Comm mpi_communicator)
+  run(const std::string &filename,
+      const bool         resume,
+      const MPI_Comm     mpi_communicator)
   {
     using namespace TKR;
     const Parameters::AllParameters parameters =
       Parameters::read_parameters(filename);
+    AssertThrow(!resume || parameters.problem == Parameters::ProblemType::wear,
+                ExcInputError("--resume continues a wear run (Problem = "
+                              "wear); <" +
+                              filename + "> sets Problem = " +
+                              Parameters::to_string(parameters.problem) + "."));
     switch (parameters.problem)
       {
         case Parameters::ProblemType::elasticity:
@@ -49,7 +58,7 @@ namespace
           }
         case Parameters::ProblemType::wear:
           {
-            Problems::WearProblem problem(parameters, mpi_communicator);
+            Problems::WearProblem problem(parameters, mpi_communicator, resume);
             return problem.run() ? 0 : 1;
           }
       }
@@ -65,12 +74,14 @@ main(int argc, char *argv[])
   const MPI_Comm                   mpi_communicator = MPI_COMM_WORLD;
   const bool is_root = Utilities::MPI::this_mpi_process(mpi_communicator) == 0;
 
-  const std::string argument = (argc == 2 ? argv[1] : "");
-  if (argc != 2 || argument == "--help" || argument == "-h")
+  const std::string argument = (argc >= 2 ? argv[1] : "");
+  const bool        resume   = (argc == 3 && argument == "--resume");
+  if ((argc != 2 && !resume) || argument == "--help" || argument == "-h")
     {
+      const bool asked = (argc == 2);
       if (is_root)
-        print_usage(argc == 2 ? std::cout : std::cerr);
-      return argc == 2 ? 0 : 2;
+        print_usage(asked ? std::cout : std::cerr);
+      return asked ? 0 : 2;
     }
   if (argument == "--print-parameters")
     {
@@ -81,7 +92,7 @@ main(int argc, char *argv[])
 
   try
     {
-      return run(argument, mpi_communicator);
+      return run(resume ? argv[2] : argument, resume, mpi_communicator);
     }
   catch (const TKR::ExcInputError &exc)
     {

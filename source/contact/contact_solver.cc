@@ -35,6 +35,8 @@ namespace TKR::Contact
   {
     dirichlet.clear();
     dirichlet.copy_from(dirichlet_constraints);
+    observation_weights.clear();
+    observed.clear();
     // A system of the right size (e.g. for assembling observation weights).
     elasticity.setup_system(dirichlet);
   }

@@ -13,6 +13,7 @@
 #include <tkr/mesh/mesh.h>
 
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -87,25 +88,27 @@ namespace TKR::Mesh
       return result;
     }
 
-    /**
-     * The Jacobian determinant of the trilinear map of a hexahedron at its
-     * vertex @p v (deal.II's lexicographic vertex numbering): the triple
-     * product of the three edges that leave the vertex, each oriented along
-     * its reference direction.
-     */
-    double
-    vertex_jacobian(const Triangulation<3>::cell_iterator &cell,
-                    const unsigned int                     v)
-    {
-      Tensor<1, 3> edge[3];
-      for (unsigned int d = 0; d < 3; ++d)
-        {
-          const unsigned int bit = 1u << d;
-          edge[d] = cell->vertex(v | bit) - cell->vertex(v & ~bit);
-        }
-      return edge[0] * cross_product_3d(edge[1], edge[2]);
-    }
   } // namespace
+
+  // At vertex v the three edges that leave it, each oriented along its
+  // reference direction, span the Jacobian there.
+  double
+  min_vertex_jacobian(const std::array<Point<3>, 8> &x)
+  {
+    double min_det = std::numeric_limits<double>::max();
+    for (unsigned int v = 0; v < 8; ++v)
+      {
+        Tensor<1, 3> edge[3];
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            const unsigned int bit = 1u << d;
+            edge[d]                = x[v | bit] - x[v & ~bit];
+          }
+        min_det =
+          std::min(min_det, edge[0] * cross_product_3d(edge[1], edge[2]));
+      }
+    return min_det;
+  }
 
   std::string
   boundary_name(const types::boundary_id id)
@@ -218,10 +221,11 @@ namespace TKR::Mesh
     std::string  first_bad;
     for (const auto &cell : triangulation.active_cell_iterators())
       {
-        double min_det = std::numeric_limits<double>::max();
+        std::array<Point<3>, 8> x;
         for (unsigned int v = 0; v < 8; ++v)
-          min_det = std::min(min_det, vertex_jacobian(cell, v));
-        const double scale = std::pow(cell->diameter(), 3);
+          x[v] = cell->vertex(v);
+        const double min_det = min_vertex_jacobian(x);
+        const double scale   = std::pow(cell->diameter(), 3);
         if (min_det <= 1e-12 * scale)
           {
             if (n_bad == 0)

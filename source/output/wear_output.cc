@@ -11,6 +11,7 @@
 #include <tkr/output/wear_output.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
@@ -67,20 +68,15 @@ namespace TKR::Output
       }
   }
 
-  WearHistory::WearHistory(const std::string &directory,
-                           const bool         testing,
-                           const MPI_Comm     mpi_communicator)
-    : filename(directory + "/wear_history.csv")
-    , testing(testing)
-    , mpi_communicator(mpi_communicator)
-  {}
-
   void
-  WearHistory::append(const WearHistoryRow &row)
+  write_wear_history(const std::string                    &directory,
+                     const std::vector<Wear::BlockResult> &rows,
+                     const bool                            testing,
+                     const MPI_Comm                        mpi_communicator)
   {
-    rows.push_back(row);
     if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
       return;
+    const std::string filename  = directory + "/wear_history.csv";
     const std::string temporary = filename + ".tmp";
     {
       std::ofstream csv(temporary);
@@ -161,5 +157,123 @@ namespace TKR::Output
             3,
             DataComponentInterpretation::component_is_part_of_vector));
       });
+  }
+
+  void
+  write_worn_tibia(const Wear::WornGeometry &geometry,
+                   const WornTibiaFields    &fields,
+                   VtuSeries                &series,
+                   const unsigned int        index,
+                   const double              cycles)
+  {
+    const auto    &dof_handler = geometry.get_dof_handler();
+    Vector<double> wear(dof_handler.n_dofs()), load(dof_handler.n_dofs());
+    Vector<double> displacement(dof_handler.n_dofs());
+    const auto     u = geometry.vertex_displacements();
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      for (const auto v : cell->vertex_indices())
+        {
+          const unsigned int vertex = cell->vertex_index(v);
+          const auto         dof    = [&](const unsigned int c) {
+            return cell->vertex_dof_index(v, c);
+          };
+          wear(dof(0)) = fields.depth[vertex];
+          wear(dof(1)) = fields.wear_rate[vertex];
+          wear(dof(2)) = fields.peak_load_pressure[vertex];
+          load(dof(0)) = fields.slip[vertex];
+          for (unsigned int c = 0; c < 3; ++c)
+            displacement(dof(c)) = u[vertex][c];
+        }
+
+    // The tibia's locally owned cells only.
+    using Iterator      = typename Triangulation<3>::cell_iterator;
+    const auto selected = [](const Iterator &cell) {
+      return cell->is_active() && cell->is_locally_owned() &&
+             cell->material_id() == Mesh::MaterialIds::tibia;
+    };
+    DataOut<3> data_out;
+    data_out.set_cell_selection(
+      [selected](const Triangulation<3> &tria) -> Iterator {
+        for (Iterator cell = tria.begin(); cell != tria.end(); ++cell)
+          if (selected(cell))
+            return cell;
+        return tria.end();
+      },
+      [selected](const Triangulation<3> &tria,
+                 const Iterator         &previous) -> Iterator {
+        Iterator cell = previous;
+        for (++cell; cell != tria.end(); ++cell)
+          if (selected(cell))
+            return cell;
+        return tria.end();
+      });
+    data_out.attach_dof_handler(dof_handler);
+    data_out.add_data_vector(
+      wear,
+      std::vector<std::string>{"wear_depth_mm",
+                               "wear_rate_um_per_Mcycles",
+                               "peak_load_pressure_MPa"},
+      DataOut<3>::type_dof_data);
+    data_out.add_data_vector(load,
+                             std::vector<std::string>{"cycle_slip_mm",
+                                                      "unused_1",
+                                                      "unused_2"},
+                             DataOut<3>::type_dof_data);
+    data_out.add_data_vector(
+      displacement,
+      std::vector<std::string>(3, "wear_displacement"),
+      DataOut<3>::type_dof_data,
+      std::vector<DataComponentInterpretation::DataComponentInterpretation>(
+        3,
+        DataComponentInterpretation::component_is_part_of_vector));
+    data_out.build_patches(geometry.get_mapping(), 1);
+    series.write(data_out, index, cycles);
+  }
+
+  void
+  write_wear_map(const std::string            &directory,
+                 const Mortar::ContactSurface &surface,
+                 const Wear::WornGeometry     &geometry,
+                 const MPI_Comm                mpi_communicator)
+  {
+    if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
+      return;
+    const auto   &x     = geometry.vertex_positions();
+    const auto   &depth = geometry.wear_depth();
+    std::ofstream nodes(directory + "/wear_map.csv");
+    nodes << "x,y,z,depth_mm\n" << std::setprecision(10);
+    for (const auto &node : surface.nodes())
+      nodes << x[node.vertex][0] << ',' << x[node.vertex][1] << ','
+            << x[node.vertex][2] << ',' << depth[node.vertex] << '\n';
+    // deal.II numbers a face's vertices lexicographically: 0, 1, 3, 2 go
+    // around it.
+    std::ofstream faces(directory + "/wear_map_faces.csv");
+    faces << "n0,n1,n2,n3\n";
+    for (const auto &face : surface.faces())
+      faces << face.nodes[0] << ',' << face.nodes[1] << ',' << face.nodes[3]
+            << ',' << face.nodes[2] << '\n';
+  }
+
+  std::string
+  make_plots(const std::string &directory,
+             const std::string &measured_file,
+             const MPI_Comm     mpi_communicator)
+  {
+    std::string error;
+    if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+      {
+        const std::string script =
+          std::string(TKR_SOURCE_DIR) + "/scripts/plot-wear";
+        std::string command = "'" + script + "' '" + directory + "'";
+        if (!measured_file.empty())
+          command += " --measured '" + measured_file + "'";
+        command += " > '" + directory + "/plot-wear.log' 2>&1";
+        const int status = std::system(command.c_str());
+        if (status != 0)
+          error = "scripts/plot-wear failed (exit status " +
+                  std::to_string(status) + "), see <" + directory +
+                  "/plot-wear.log>";
+      }
+    return Utilities::MPI::broadcast(mpi_communicator, error, 0);
   }
 } // namespace TKR::Output

@@ -6,34 +6,17 @@
 #include <tkr/base/exceptions.h>
 #include <tkr/parameters/parameters.h>
 
+#include "vector_entry.h"
+
 #include <fstream>
 #include <sstream>
 
 namespace TKR::Parameters
 {
   using namespace dealii;
+  using internal::get_vector;
+  using internal::vector_pattern;
 
-  namespace
-  {
-    /** Pattern of a vector "x, y, z". */
-    Patterns::List
-    vector_pattern()
-    {
-      return Patterns::List(Patterns::Double(), 3, 3, ",");
-    }
-
-    /** Read a "x, y, z" entry; the pattern has already been checked. */
-    Tensor<1, 3>
-    get_vector(ParameterHandler &prm, const std::string &name)
-    {
-      const std::vector<double> values = Utilities::string_to_double(
-        Utilities::split_string_list(prm.get(name), ','));
-      Tensor<1, 3> result;
-      for (unsigned int d = 0; d < 3; ++d)
-        result[d] = values[d];
-      return result;
-    }
-  } // namespace
 
   void
   Mesh::declare_parameters(ParameterHandler &prm)
@@ -278,203 +261,6 @@ namespace TKR::Parameters
   }
 
   void
-  Gait::declare_parameters(ParameterHandler &prm)
-  {
-    prm.enter_subsection("Gait");
-    {
-      prm.declare_entry("Waveform file",
-                        "data/iso14243-1.csv",
-                        Patterns::FileName(),
-                        "CSV table of the gait cycle: percent of cycle, "
-                        "flexion angle (deg), axial force (N), AP force (N), "
-                        "IE torque (N m).");
-      prm.declare_entry("Steps per cycle",
-                        "100",
-                        Patterns::Integer(1),
-                        "Number of quasi-static contact solves per cycle.");
-      prm.declare_entry("Flexion axis point",
-                        "0, 0, 40",
-                        vector_pattern(),
-                        "A point (mm) on the flexion axis, which is parallel "
-                        "to x.");
-      prm.declare_entry("Medial side",
-                        "+x",
-                        Patterns::Selection("+x|-x"),
-                        "Which direction of x is medial (left and right "
-                        "knees differ).");
-      prm.declare_entry("Axial load offset",
-                        "0.07",
-                        Patterns::Double(-0.5, 0.5),
-                        "Medial offset of the axial load line, as a fraction "
-                        "of the medial-lateral width of the insert.");
-      prm.declare_entry("AP spring stiffness",
-                        "9.3",
-                        Patterns::Double(0),
-                        "Anterior-posterior restraint spring, N/mm (within "
-                        "the AP spring range).");
-      prm.declare_entry("IE spring stiffness",
-                        "130",
-                        Patterns::Double(0),
-                        "Internal-external rotation restraint spring, "
-                        "N mm/deg (within the IE spring range).");
-      prm.declare_entry("AP spring range",
-                        "2.5",
-                        Patterns::Double(0),
-                        "The AP restraint has the AP spring stiffness within "
-                        "+- this AP translation of the tibia (mm) and the "
-                        "AP spring stiffness beyond range outside it "
-                        "(ISO 14243-1:2009 two-rate law, values as commonly "
-                        "cited).");
-      prm.declare_entry("AP spring stiffness beyond range",
-                        "44",
-                        Patterns::Double(0),
-                        "AP restraint stiffness beyond the AP spring range, "
-                        "N/mm. Equal to the AP spring stiffness: a linear "
-                        "spring.");
-      prm.declare_entry("IE spring range",
-                        "6",
-                        Patterns::Double(0),
-                        "The IE restraint has the IE spring stiffness within "
-                        "+- this rotation of the tibia about the axial "
-                        "direction (deg) and the IE spring stiffness beyond "
-                        "range outside it.");
-      prm.declare_entry("IE spring stiffness beyond range",
-                        "360",
-                        Patterns::Double(0),
-                        "IE restraint stiffness beyond the IE spring range, "
-                        "N mm/deg. Equal to the IE spring stiffness: a "
-                        "linear spring.");
-      prm.declare_entry("Axial stabilisation spring",
-                        "100",
-                        Patterns::Double(0),
-                        "Total stiffness in N/mm of an axial spring spread "
-                        "over the tibial inferior surface that acts on the "
-                        "tibia's displacement relative to its current pose "
-                        "(rigid translation) only. It keeps every linear "
-                        "system regular while the active set is wrong and "
-                        "vanishes as the pose iteration converges (its force "
-                        "is then below this times the Pose tolerance).");
-      prm.declare_entry("Pose tolerance",
-                        "0.001",
-                        Patterns::Double(0),
-                        "The tibia's pose (rigid translation) is updated "
-                        "until the mean displacement of its inferior "
-                        "surface is below this (mm).");
-      prm.declare_entry("Tibial tray",
-                        "rigid",
-                        Patterns::Selection("rigid|free"),
-                        "rigid: the inferior surface moves like the "
-                        "simulator's tray: it translates, rotates about z "
-                        "(IE) and ab/adducts, but does not tilt in the "
-                        "sagittal plane (needs a flat inferior surface). "
-                        "free: no constraint (the insert may tilt under the "
-                        "AP force).");
-      prm.declare_entry("Step groups",
-                        "0",
-                        Patterns::Integer(0),
-                        "The steps of a cycle are independent: the MPI ranks "
-                        "are split into this many groups, each solving every "
-                        "n-th step on its own copy of the mesh (0: one group "
-                        "per rank). The result does not depend on it.");
-      prm.declare_entry("ML spring stiffness",
-                        "0",
-                        Patterns::Double(0),
-                        "Medial-lateral spring, N/mm. Not part of ISO "
-                        "14243-1 (the tibia is free medial-laterally and "
-                        "held by the conformity of the insert); a small "
-                        "value stabilises very flat inserts.");
-      prm.declare_entry("AP force sign",
-                        "1",
-                        Patterns::Selection("1|-1"),
-                        "Multiplies the tabulated AP force: +1 keeps the "
-                        "table's convention (positive = force on the tibia "
-                        "towards anterior, +y).");
-      prm.declare_entry("IE torque sign",
-                        "1",
-                        Patterns::Selection("1|-1"),
-                        "Multiplies the tabulated IE torque: +1 keeps the "
-                        "table's convention (positive = internal rotation of "
-                        "the tibia).");
-    }
-    prm.leave_subsection();
-  }
-
-  void
-  Gait::parse_parameters(ParameterHandler &prm)
-  {
-    prm.enter_subsection("Gait");
-    {
-      waveform_file       = prm.get("Waveform file");
-      steps_per_cycle     = prm.get_integer("Steps per cycle");
-      flexion_axis_point  = Point<3>(get_vector(prm, "Flexion axis point"));
-      medial_direction    = (prm.get("Medial side") == "+x" ? 1 : -1);
-      axial_load_offset   = prm.get_double("Axial load offset");
-      ap_spring_stiffness = prm.get_double("AP spring stiffness");
-      ie_spring_stiffness = prm.get_double("IE spring stiffness");
-      ap_spring_range     = prm.get_double("AP spring range");
-      ap_spring_stiffness_beyond =
-        prm.get_double("AP spring stiffness beyond range");
-      ie_spring_range = prm.get_double("IE spring range");
-      ie_spring_stiffness_beyond =
-        prm.get_double("IE spring stiffness beyond range");
-      AssertThrow(ap_spring_stiffness_beyond >= ap_spring_stiffness &&
-                    ie_spring_stiffness_beyond >= ie_spring_stiffness,
-                  ExcInputError("Gait: a spring stiffness beyond range must "
-                                "not be smaller than the one within it."));
-      ml_spring_stiffness        = prm.get_double("ML spring stiffness");
-      step_groups                = prm.get_integer("Step groups");
-      rigid_tray                 = (prm.get("Tibial tray") == "rigid");
-      axial_stabilisation_spring = prm.get_double("Axial stabilisation spring");
-      pose_tolerance             = prm.get_double("Pose tolerance");
-      ap_force_sign              = prm.get_double("AP force sign");
-      ie_torque_sign             = prm.get_double("IE torque sign");
-    }
-    prm.leave_subsection();
-  }
-
-  void
-  Wear::declare_parameters(ParameterHandler &prm)
-  {
-    prm.enter_subsection("Wear");
-    {
-      prm.declare_entry("Wear coefficient",
-                        "2e-7",
-                        Patterns::Double(0),
-                        "Archard wear coefficient k in mm^3/(N m).");
-      prm.declare_entry("Cycles",
-                        "5e6",
-                        Patterns::Double(0),
-                        "Number of gait cycles to simulate.");
-      prm.declare_entry("Cycles per extrapolation step",
-                        "5e4",
-                        Patterns::Double(1),
-                        "n_Delta: the wear of one computed cycle is "
-                        "multiplied by this number before the worn surface "
-                        "is moved.");
-      prm.declare_entry("Wear area threshold",
-                        "1e-4",
-                        Patterns::Double(0),
-                        "Wear depth in mm above which a point of the tibial "
-                        "contact surface counts towards the wear area.");
-    }
-    prm.leave_subsection();
-  }
-
-  void
-  Wear::parse_parameters(ParameterHandler &prm)
-  {
-    prm.enter_subsection("Wear");
-    {
-      wear_coefficient = prm.get_double("Wear coefficient");
-      cycles           = prm.get_double("Cycles");
-      cycles_per_extrapolation_step =
-        prm.get_double("Cycles per extrapolation step");
-      wear_area_threshold = prm.get_double("Wear area threshold");
-    }
-    prm.leave_subsection();
-  }
-
-  void
   ContactSolver::declare_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Contact solver");
@@ -634,47 +420,6 @@ namespace TKR::Parameters
       rigid_body_modes      = prm.get_bool("Rigid body modes");
       aggregation_threshold = prm.get_double("AMG aggregation threshold");
       smoother_sweeps       = prm.get_integer("AMG smoother sweeps");
-    }
-    prm.leave_subsection();
-  }
-
-  void
-  Output::declare_parameters(ParameterHandler &prm)
-  {
-    prm.enter_subsection("Output");
-    {
-      prm.declare_entry("Directory",
-                        "output",
-                        Patterns::DirectoryName(),
-                        "Where summary.json, VTU/PVD files and checkpoints "
-                        "go. Created if missing.");
-      prm.declare_entry("VTU interval",
-                        "1",
-                        Patterns::Integer(0),
-                        "Write VTU output every this many steps (0: never).");
-      prm.declare_entry("Checkpoint interval",
-                        "10",
-                        Patterns::Integer(0),
-                        "Write a checkpoint every this many extrapolation "
-                        "steps (0: never).");
-      prm.declare_entry("Testing",
-                        "false",
-                        Patterns::Bool(),
-                        "Leave timings and wall-clock numbers out of the "
-                        "screen output, for regression tests.");
-    }
-    prm.leave_subsection();
-  }
-
-  void
-  Output::parse_parameters(ParameterHandler &prm)
-  {
-    prm.enter_subsection("Output");
-    {
-      directory           = prm.get("Directory");
-      vtu_interval        = prm.get_integer("VTU interval");
-      checkpoint_interval = prm.get_integer("Checkpoint interval");
-      testing             = prm.get_bool("Testing");
     }
     prm.leave_subsection();
   }

@@ -66,18 +66,37 @@ namespace TKR::Problems
 
     model.setup_contact_surfaces();
 
-    // The stiffness (with the springs) is the same in every step and pose
-    // update; the rigid part of the tibia's motion is read through linear
-    // functionals that every solve evaluates.
-    Timer setup_timer;
-    solver =
-      Contact::create_contact_solver(parameters,
-                                     model.elasticity,
-                                     *model.coupling,
-                                     groups.communicator,
-                                     ConditionalOStream(std::cout, false),
-                                     model.timer);
-    solver->setup(model.mapping(),
+    const unsigned int n_steps = parameters.gait.steps_per_cycle;
+    records.assign(n_steps, Wear::StepRecord());
+    reports.assign(n_steps, Wear::StepReport());
+    starts.assign(n_steps, Wear::StepStart());
+    setup_solver();
+    if (parameters.output.vtu_interval > 0)
+      step_series =
+        std::make_unique<Output::VtuSeries>(parameters.output.directory,
+                                            "step",
+                                            groups.communicator,
+                                            model.world);
+  }
+
+  // The stiffness (with the springs) is the same in every step and pose
+  // update; the rigid part of the tibia's motion is read through linear
+  // functionals that every solve evaluates.
+  void
+  GaitCycle::setup_solver()
+  {
+    const auto &parameters = model.parameters;
+    Timer       setup_timer;
+    const bool  first = !solver;
+    if (first)
+      solver =
+        Contact::create_contact_solver(parameters,
+                                       model.elasticity,
+                                       *model.coupling,
+                                       groups.communicator,
+                                       ConditionalOStream(std::cout, false),
+                                       model.timer);
+    solver->setup(model.geometry.stiffness_mapping(),
                   dirichlet,
                   tibia_pose->loads(waveform->at(0.), Gait::PoseState()));
     for (const auto &functional : tibia_pose->motion_functionals())
@@ -85,22 +104,14 @@ namespace TKR::Problems
         model.elasticity.assemble_rhs(model.mapping(), dirichlet, functional);
         solver->add_observation(model.elasticity.get_system_rhs());
       }
-    pcout << "Contact solver: " << solver->description();
+    if (!first)
+      return;
+    model.pcout << "Contact solver: " << solver->description();
     if (!parameters.output.testing)
-      pcout << ", set up in " << std::fixed << std::setprecision(1)
-            << setup_timer.wall_time() << " s" << std::defaultfloat
-            << std::setprecision(6);
-    pcout << std::endl;
-
-    const unsigned int n_steps = parameters.gait.steps_per_cycle;
-    records.assign(n_steps, Wear::StepRecord());
-    reports.assign(n_steps, Wear::StepReport());
-    if (parameters.output.vtu_interval > 0)
-      step_series =
-        std::make_unique<Output::VtuSeries>(parameters.output.directory,
-                                            "step",
-                                            groups.communicator,
-                                            model.world);
+      model.pcout << ", set up in " << std::fixed << std::setprecision(1)
+                  << setup_timer.wall_time() << " s" << std::defaultfloat
+                  << std::setprecision(6);
+    model.pcout << std::endl;
   }
 
   std::vector<Point<3>>
@@ -134,15 +145,24 @@ namespace TKR::Problems
   // the initial active set), whichever steps its group solved before: the
   // result then does not depend on how the steps are distributed.
   void
-  GaitCycle::solve_step(const unsigned int step)
+  GaitCycle::solve_step(const unsigned int step,
+                        const bool         print,
+                        const bool         keep_for_output)
   {
     const auto             &parameters = model.parameters;
     Timer                   step_timer;
     const Gait::GaitState   gait   = waveform->at(100. * step / n_steps());
     const Gait::RigidMotion motion = gait_loads->femur_motion(gait);
 
-    Contact::ContactState      state;
-    Gait::PoseState            pose;
+    // A warm start from where the step ended in the previous block, or
+    // rest.
+    Contact::ContactState state;
+    Gait::PoseState       pose;
+    if (parameters.wear.warm_start && !starts[step].active.empty())
+      {
+        state.active = starts[step].active;
+        pose         = starts[step].pose;
+      }
     Contact::ContactStatistics statistics;
     unsigned int               newton_iterations = 0, n_solves = 0;
     const auto                 solve = [&](const Gait::PoseState &pose,
@@ -196,12 +216,13 @@ namespace TKR::Problems
     report.converged         = statistics.converged && iteration.converged;
     report.pose_converged    = iteration.converged;
     report.wall_time         = step_timer.wall_time();
-    if (groups.n_groups == 1)
+    starts[step]             = {pose, state.active};
+    if (groups.n_groups == 1 && (print || !report.converged))
       model.pcout << Output::step_line(step, report, parameters.output.testing)
                   << std::endl;
     // The step's VTU needs the slip to the next step: it is written after
     // the cycle (output_steps()).
-    if (parameters.output.vtu_interval > 0 &&
+    if (keep_for_output && parameters.output.vtu_interval > 0 &&
         step % parameters.output.vtu_interval == 0)
       {
         solver->compute_solution();
@@ -210,23 +231,25 @@ namespace TKR::Problems
   }
 
   bool
-  GaitCycle::solve()
+  GaitCycle::solve(const bool print_steps, const bool keep_for_output)
   {
     const std::vector<unsigned int> steps = groups.own_items(n_steps());
+    saved_steps.clear();
     for (const unsigned int step : steps)
-      solve_step(step);
+      solve_step(step, print_steps, keep_for_output);
     {
       TimerOutput::Scope scope(model.timer, "collect steps");
       Wear::gather_steps(groups.is_group_root ? steps :
                                                 std::vector<unsigned int>(),
                          records,
                          reports,
+                         starts,
                          model.world);
     }
     bool converged = true;
     for (unsigned int step = 0; step < n_steps(); ++step)
       {
-        if (groups.n_groups > 1)
+        if (groups.n_groups > 1 && (print_steps || !reports[step].converged))
           model.pcout << Output::step_line(step,
                                            reports[step],
                                            model.parameters.output.testing)

@@ -1,76 +1,115 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // This file is part of tkr-wear.
 
-#include <deal.II/numerics/data_out.h>
+#include <deal.II/base/timer.h>
 
 #include <tkr/base/exceptions.h>
-#include <tkr/output/solution_output.h>
+#include <tkr/output/checkpoint.h>
 #include <tkr/output/wear_output.h>
 #include <tkr/problems/wear_problem.h>
 #include <tkr/wear/archard.h>
 
 #include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
 
 namespace TKR::Problems
 {
   using namespace dealii;
 
   WearProblem::WearProblem(const Parameters::AllParameters &parameters,
-                           const MPI_Comm                   mpi_communicator)
-    : groups(mpi_communicator, parameters.gait.step_groups)
+                           const MPI_Comm                   mpi_communicator,
+                           const bool                       resume)
+    : resume(resume)
+    , groups(mpi_communicator, parameters.gait.step_groups)
     , model(parameters, mpi_communicator, groups.communicator)
     , cycle(model, groups)
+    , motion(model.geometry, groups.communicator, model.timer)
   {}
+
+  void
+  WearProblem::start()
+  {
+    const auto &parameters = model.parameters;
+    const auto &directory  = parameters.output.directory;
+    if (!resume)
+      {
+        state.cycles_per_block = parameters.wear.cycles_per_extrapolation_step;
+        state.history.push_back(Wear::BlockResult());
+        return;
+      }
+    state = Output::read_checkpoint(directory,
+                                    model.triangulation.n_vertices(),
+                                    cycle.n_steps());
+    model.geometry.set_vertex_displacements(state.displacement,
+                                            state.stiffness_displacement);
+    model.geometry.set_wear_depth(state.depth);
+    cycle.set_step_starts(state.step_starts);
+    if (state.stiffness_block > 1)
+      cycle.setup_solver();
+    model.pcout << "Resumed from <" << Output::checkpoint_file(directory)
+                << ">: block " << state.block << ", " << state.cycles
+                << " cycles" << std::endl;
+  }
 
   // Archard's law integrated over the cycle gives each tibia_contact
   // node's depth; volume = sum of depth x D_jj, mass = density x volume.
-  // The wear area counts the nodes whose depth, extrapolated linearly to
-  // the Cycles of the parameter file, exceeds the wear-area threshold.
-  // Quantities are printed per million cycles, so that the regression
-  // tests compare O(1) numbers.
+  // The first cycle (on the unworn insert) is reported in full, per
+  // million cycles, so that regression tests compare O(1) numbers; its
+  // wear area counts the nodes whose depth extrapolated linearly to the
+  // Cycles of the parameter file exceeds the threshold.
   void
   WearProblem::compute_wear()
   {
     const auto &parameters = model.parameters;
     const auto &wear       = parameters.wear;
-    // k is given in mm^3/(N m); slips are in mm.
-    wear_depth          = Wear::cycle_wear_depth(cycle.get_records(),
-                                        1e-3 * wear.wear_coefficient,
-                                        &slip);
-    const double volume = Wear::worn_volume(wear_depth, cycle.get_coupling());
-    const double mass   = parameters.materials.tibia.density * volume;
-    const auto  &nodes  = cycle.get_coupling().slave_nodes();
-    double       max_depth = 0, area = 0, worn_area = 0;
-    for (unsigned int j = 0; j < wear_depth.size(); ++j)
-      {
-        max_depth = std::max(max_depth, wear_depth[j]);
-        area += nodes[j].D;
-        if (wear_depth[j] * wear.cycles > wear.wear_area_threshold)
-          worn_area += nodes[j].D;
-      }
+    const auto &reports    = cycle.get_reports();
+    cycle_depth            = Wear::cycle_wear_depth(cycle.get_records(),
+                                         1e-3 * wear.wear_coefficient,
+                                         &cycle_slip);
+    peak_pressure = max_contact_area = 0;
     unsigned int n_newton = 0, n_solves = 0, n_converged = 0;
-    double       max_pressure = 0, max_area = 0;
-    for (const auto &r : cycle.get_reports())
+    for (const auto &r : reports)
       {
         n_newton += r.newton_iterations;
         n_solves += r.pose_updates + 1;
         n_converged += r.converged;
-        max_pressure = std::max(max_pressure, r.max_pressure);
-        max_area     = std::max(max_area, r.contact_area);
+        peak_pressure    = std::max(peak_pressure, r.max_pressure);
+        max_contact_area = std::max(max_contact_area, r.contact_area);
       }
-    const unsigned int n_steps = cycle.n_steps();
+    state.contact_solves += n_solves;
+    state.newton_iterations += n_newton;
+    state.steps += reports.size();
+    state.converged    = state.converged && n_converged == reports.size();
+    state.max_pressure = std::max(state.max_pressure, peak_pressure);
+    if (state.block > 0)
+      return;
 
-    model.pcout << "Wear of one cycle (Archard, k = " << wear.wear_coefficient
-                << " mm^3/(N m)):" << std::endl
+    const double volume = Wear::worn_volume(cycle_depth, cycle.get_coupling());
+    const double mass   = parameters.materials.tibia.density * volume;
+    const auto  &nodes  = cycle.get_coupling().slave_nodes();
+    double       max_depth = 0, area = 0, worn_area = 0;
+    for (unsigned int j = 0; j < cycle_depth.size(); ++j)
+      {
+        max_depth = std::max(max_depth, cycle_depth[j]);
+        area += nodes[j].D;
+        if (cycle_depth[j] * wear.cycles > wear.wear_area_threshold)
+          worn_area += nodes[j].D;
+      }
+    model.pcout << "Wear of the first cycle (Archard, k = "
+                << wear.wear_coefficient << " mm^3/(N m)):" << std::endl
                 << "  volume loss:       " << 1e6 * volume
                 << " mm^3 per million cycles" << std::endl
                 << "  mass loss:         " << 1e6 * mass
                 << " mg per million cycles" << std::endl
                 << "  max wear depth:    " << 1e9 * max_depth
                 << " um per million cycles" << std::endl
-                << "  peak pressure:     " << max_pressure
+                << "  peak pressure:     " << peak_pressure
                 << " MPa (over the cycle)" << std::endl
-                << "  max contact area:  " << max_area << " mm^2" << std::endl
+                << "  max contact area:  " << max_contact_area << " mm^2"
+                << std::endl
                 << "  wear area:         " << 100. * worn_area / area
                 << " % of tibia_contact (depth x " << wear.cycles
                 << " cycles > " << wear.wear_area_threshold << " mm)"
@@ -78,87 +117,284 @@ namespace TKR::Problems
                 << "  linear extrapolation to " << wear.cycles
                 << " cycles without geometry update: " << mass * wear.cycles
                 << " mg" << std::endl
-                << "  steps: " << n_steps << ", converged: " << n_converged
+                << "  steps: " << reports.size()
+                << ", converged: " << n_converged
                 << ", contact solves: " << n_solves
                 << ", Newton iterations per step: "
-                << double(n_newton) / n_steps << std::endl;
+                << double(n_newton) / reports.size() << std::endl;
+    state.first_cycle_mass = mass;
+  }
 
-    auto &summary = model.summary;
-    summary.set("cycles", 1);
-    summary.set("mass_loss_mg", mass);
-    summary.set("volume_loss_mm3", volume);
-    summary.set("max_wear_depth_mm", max_depth);
-    summary.set("wear_area_percent", 100. * worn_area / area);
-    summary.set("wear_area_threshold_mm", wear.wear_area_threshold);
-    summary.set("max_pressure_MPa", max_pressure);
-    summary.set("max_contact_area_mm2", max_area);
-    summary.set("steps", n_steps);
-    summary.set("converged_steps", n_converged);
-    summary.set("contact_solves", n_solves);
-    summary.set("mean_newton_iterations", double(n_newton) / n_solves);
-    summary.set("linear_extrapolation_cycles", wear.cycles);
-    summary.set("linear_extrapolation_mass_loss_mg", mass * wear.cycles);
+  // The depth grows by n x the cycle's depth at every tibia_contact node;
+  // the node moves inward along the worn surface's nodal normal (the
+  // coupling's, on the current geometry) by the new depth, and MeshMotion
+  // extends that into the tibia.
+  double
+  WearProblem::extrapolate()
+  {
+    const auto &parameters = model.parameters;
+    const auto &wear       = parameters.wear;
+    const auto &nodes      = cycle.get_coupling().slave_nodes();
+    const auto &surface    = cycle.get_coupling().slave_surface().nodes();
+    const std::vector<Tensor<1, 3>> displacement =
+      model.geometry.vertex_displacements();
+    for (;;)
+      {
+        const double n =
+          std::min(state.cycles_per_block, wear.cycles - state.cycles);
+        std::vector<Tensor<1, 3>> target = displacement;
+        std::vector<double> increment(model.triangulation.n_vertices(), 0.);
+        for (unsigned int j = 0; j < nodes.size(); ++j)
+          {
+            const unsigned int v = surface[j].vertex;
+            increment[v]         = n * cycle_depth[j];
+            target[v] -= increment[v] * nodes[j].normal;
+          }
+        const auto moved      = motion.extend(target);
+        const auto distortion = motion.distortion(moved);
+        if (distortion.min_ratio >= wear.distortion_limit)
+          {
+            model.geometry.set_vertex_displacements(moved);
+            model.geometry.add_wear_depth(increment);
+            state.volume +=
+              n * Wear::worn_volume(cycle_depth, cycle.get_coupling());
+            state.cycles += n;
+            ++state.block;
+            return n;
+          }
+        double depth = 0;
+        for (const unsigned int v : distortion.vertices)
+          depth =
+            std::max(depth, model.geometry.wear_depth()[v] + increment[v]);
+        const Point<3>    &x = distortion.centre;
+        std::ostringstream message;
+        message << "Block " << state.block + 1 << " (" << n
+                << " cycles from cycle " << state.cycles
+                << "): the worn geometry would distort tibia cell "
+                << distortion.cell << " (centre " << x[0] << ", " << x[1]
+                << ", " << x[2] << "), where the wear depth reaches " << depth
+                << " mm: its smallest Jacobian would drop to "
+                << distortion.min_ratio
+                << " of the unworn cell's, below the Distortion limit of "
+                << wear.distortion_limit << ".";
+        AssertThrow(wear.halve_step_on_distortion && n > 1,
+                    ExcInputError(message.str() +
+                                  " Reduce Wear/Cycles per extrapolation "
+                                  "step, set Halve step on distortion = "
+                                  "true, or refine the mesh where the "
+                                  "insert wears."));
+        state.cycles_per_block = 0.5 * n;
+        model.pcout << "Warning: " << message.str()
+                    << " Halving the cycles per block to "
+                    << state.cycles_per_block << " and retrying." << std::endl;
+      }
+  }
 
-    Output::WearHistory history(parameters.output.directory,
-                                parameters.output.testing,
-                                model.world);
-    history.append({1,
-                    1.,
-                    volume,
-                    mass,
-                    max_depth,
-                    100. * worn_area / area,
-                    max_pressure,
-                    max_area,
-                    model.wall_timer.wall_time()});
+  void
+  WearProblem::finish_block(const double block_wall_time)
+  {
+    const auto &parameters = model.parameters;
+    const auto &output     = parameters.output;
+    const auto &nodes      = cycle.get_coupling().slave_nodes();
+    const auto &surface    = cycle.get_coupling().slave_surface().nodes();
+    const auto &depth      = model.geometry.wear_depth();
+    double      max_depth = 0, area = 0, worn_area = 0;
+    for (unsigned int j = 0; j < nodes.size(); ++j)
+      {
+        const double d = depth[surface[j].vertex];
+        max_depth      = std::max(max_depth, d);
+        area += nodes[j].D;
+        if (d > parameters.wear.wear_area_threshold)
+          worn_area += nodes[j].D;
+      }
+    const double wall_time = state.wall_time + model.wall_timer.wall_time();
+    state.history.push_back({state.block,
+                             state.cycles,
+                             state.volume,
+                             parameters.materials.tibia.density * state.volume,
+                             max_depth,
+                             100. * worn_area / area,
+                             peak_pressure,
+                             max_contact_area,
+                             wall_time});
+    Output::write_wear_history(output.directory,
+                               state.history,
+                               output.testing,
+                               model.world);
+
+    // Progress: on the screen and in progress.log.
+    const unsigned int n_blocks =
+      state.block + std::ceil((parameters.wear.cycles - state.cycles) /
+                                state.cycles_per_block -
+                              1e-9);
+    std::ostringstream line;
+    line << "Block " << std::setw(4) << state.block << "/" << n_blocks << ": "
+         << std::setw(9) << state.cycles << " cycles, mass loss "
+         << state.history.back().mass << " mg, max depth " << 1e3 * max_depth
+         << " um, wear area " << 100. * worn_area / area << " %";
+    if (!output.testing)
+      {
+        const double remaining = (n_blocks - state.block) * block_wall_time;
+        line << ", " << std::fixed << std::setprecision(1) << block_wall_time
+             << " s/block, ETA " << std::setprecision(0) << remaining / 60.
+             << " min";
+      }
+    model.pcout << line.str() << std::endl;
+    if (Utilities::MPI::this_mpi_process(model.world) == 0)
+      {
+        std::ofstream log(output.directory + "/progress.log", std::ios::app);
+        log << line.str() << std::endl;
+      }
+
+    // The worn tibia (group 0 writes it).
+    if (output.vtu_interval > 0 && groups.index == 0)
+      {
+        if (!worn_series)
+          worn_series =
+            std::make_unique<Output::VtuSeries>(output.directory,
+                                                "worn",
+                                                groups.communicator);
+        Output::WornTibiaFields fields;
+        const unsigned int      n_vertices = model.triangulation.n_vertices();
+        fields.depth                       = depth;
+        fields.wear_rate.assign(n_vertices, 0.);
+        fields.peak_load_pressure.assign(n_vertices, 0.);
+        fields.slip.assign(n_vertices, 0.);
+        const auto        &reports = cycle.get_reports();
+        const unsigned int peak_step =
+          std::max_element(reports.begin(),
+                           reports.end(),
+                           [](const auto &a, const auto &b) {
+                             return a.axial_force < b.axial_force;
+                           }) -
+          reports.begin();
+        for (unsigned int j = 0; j < nodes.size(); ++j)
+          {
+            const unsigned int v = surface[j].vertex;
+            fields.wear_rate[v]  = 1e9 * cycle_depth[j];
+            fields.peak_load_pressure[v] =
+              cycle.get_records()[peak_step].pressure[j];
+            fields.slip[v] = cycle_slip[j];
+          }
+        Output::write_worn_tibia(model.geometry,
+                                 fields,
+                                 *worn_series,
+                                 state.block,
+                                 state.cycles);
+      }
+
+    const bool done = state.cycles >= parameters.wear.cycles;
+    if (output.checkpoint_interval > 0 &&
+        (state.block % output.checkpoint_interval == 0 || done))
+      {
+        TimerOutput::Scope scope(model.timer, "checkpoint");
+        state.displacement = model.geometry.vertex_displacements();
+        state.stiffness_displacement =
+          model.geometry.vertex_displacements(true);
+        state.depth       = depth;
+        state.step_starts = cycle.get_step_starts();
+        Output::write_checkpoint(output.directory, state, model.world);
+        model.pcout << "  checkpoint written after block " << state.block
+                    << std::endl;
+      }
   }
 
   void
   WearProblem::output_results()
   {
     const auto &parameters = model.parameters;
-    Output::write_steps_csv(parameters.output.directory,
-                            cycle.get_reports(),
-                            model.world);
-    if (parameters.output.vtu_interval == 0)
-      return;
-    cycle.output_steps();
-    if (groups.index != 0)
-      return;
-    // The wear of the cycle on the tibia (group 0 writes it).
-    TimerOutput::Scope  scope(model.timer, "output");
-    std::vector<double> depth_nm(wear_depth.size());
-    for (unsigned int j = 0; j < wear_depth.size(); ++j)
-      depth_nm[j] = 1e6 * wear_depth[j];
-    Output::VtuSeries series(parameters.output.directory,
-                             "wear",
-                             groups.communicator);
-    Output::write_solution(model.elasticity,
-                           model.mapping(),
-                           series,
-                           0,
-                           0.,
-                           {{&cycle.get_coupling().slave_surface(),
-                             {"wear_depth_nm", "slip_mm", "unused"},
-                             {depth_nm, slip}}});
+    const auto &output     = parameters.output;
+    Output::write_steps_csv(output.directory, cycle.get_reports(), model.world);
+    if (output.vtu_interval > 0)
+      cycle.output_steps();
+    Output::write_wear_map(output.directory,
+                           cycle.get_coupling().slave_surface(),
+                           model.geometry,
+                           model.world);
+
+    const auto &last    = state.history.back();
+    auto       &summary = model.summary;
+    summary.set("cycles", state.cycles);
+    summary.set("blocks", state.block);
+    summary.set("mass_loss_mg", last.mass);
+    summary.set("volume_loss_mm3", last.volume);
+    summary.set("max_wear_depth_mm", last.max_depth);
+    summary.set("wear_area_percent", last.wear_area_percent);
+    summary.set("wear_area_threshold_mm", parameters.wear.wear_area_threshold);
+    summary.set("max_pressure_MPa", state.max_pressure);
+    summary.set("steps", static_cast<unsigned long long>(state.steps));
+    summary.set("contact_solves",
+                static_cast<unsigned long long>(state.contact_solves));
+    summary.set("mean_newton_iterations",
+                double(state.newton_iterations) / state.contact_solves);
+    summary.set("cycles_per_extrapolation_step", state.cycles_per_block);
+    summary.set("first_cycle_mass_loss_mg_per_million_cycles",
+                1e6 * state.first_cycle_mass);
+    summary.set("linear_extrapolation_mass_loss_mg",
+                state.first_cycle_mass * parameters.wear.cycles);
+    summary.set("stiffness_update_interval",
+                parameters.wear.stiffness_update_interval);
+    summary.set("step_groups", groups.n_groups);
+    if (output.plots)
+      {
+        // The summary is written by finish(); the plots read it.
+        summary.write(output.directory, model.world);
+        const std::string error =
+          Output::make_plots(output.directory,
+                             output.measured_mass_loss_file,
+                             model.world);
+        if (!error.empty())
+          model.pcout << "Warning: no plots: " << error << std::endl;
+      }
   }
 
   bool
   WearProblem::run()
   {
+    const auto &parameters = model.parameters;
+    const auto &wear       = parameters.wear;
     model.start("ISO 14243-1 gait cycle and Archard wear");
-    AssertThrow(model.parameters.mesh.fe_degree == 1,
+    AssertThrow(parameters.mesh.fe_degree == 1,
                 ExcInputError(
                   "Problem = wear needs Finite element degree = 1."));
     model.make_grid();
     model.distribute_dofs();
     cycle.setup();
+    motion.setup();
+    start();
+    model.pcout << "Extrapolation: " << wear.cycles << " cycles in blocks of "
+                << state.cycles_per_block << ", stiffness updated "
+                << (wear.stiffness_update_interval == 0 ?
+                      std::string("never") :
+                      "every " +
+                        std::to_string(wear.stiffness_update_interval) +
+                        " block(s)")
+                << ", warm starts " << (wear.warm_start ? "on" : "off")
+                << std::endl;
 
-    model.pcout << "Gait cycle, " << cycle.n_steps() << " steps:" << std::endl;
-    const bool converged = cycle.solve();
-    compute_wear();
+    while (state.cycles < wear.cycles)
+      {
+        Timer              block_timer;
+        const unsigned int block = state.block + 1;
+        const unsigned int R     = wear.stiffness_update_interval;
+        if (block > 1 && R > 0 && (block - 1) % R == 0 &&
+            state.stiffness_block != block)
+          {
+            model.geometry.update_stiffness_geometry();
+            cycle.setup_solver();
+            state.stiffness_block = block;
+          }
+        const bool first = (block == 1);
+        const bool last  = state.cycles + state.cycles_per_block >= wear.cycles;
+        if (first)
+          model.pcout << "Gait cycle, " << cycle.n_steps()
+                      << " steps:" << std::endl;
+        cycle.solve(first, last);
+        compute_wear();
+        extrapolate();
+        finish_block(block_timer.wall_time());
+      }
     output_results();
-    model.summary.set("step_groups", groups.n_groups);
-    return model.finish(converged);
+    return model.finish(state.converged);
   }
 } // namespace TKR::Problems

@@ -38,18 +38,19 @@ namespace TKR::Wear
 
   namespace
   {
-    /** A step's record and report with its number, for the exchange. */
+    /** A step's record, report and end state, for the exchange. */
     struct StepResult
     {
       unsigned int step = 0;
       StepRecord   record;
       StepReport   report;
+      StepStart    start;
 
       template <class Archive>
       void
       serialize(Archive &archive, const unsigned int)
       {
-        archive &step &record &report;
+        archive &step &record &report &start;
       }
     };
   } // namespace
@@ -58,16 +59,18 @@ namespace TKR::Wear
   gather_steps(const std::vector<unsigned int> &own_steps,
                std::vector<StepRecord>         &records,
                std::vector<StepReport>         &reports,
+               std::vector<StepStart>          &starts,
                const MPI_Comm                   communicator)
   {
     std::vector<StepResult> mine;
     for (const unsigned int step : own_steps)
-      mine.push_back({step, records[step], reports[step]});
+      mine.push_back({step, records[step], reports[step], starts[step]});
     for (const auto &from_rank : Utilities::MPI::all_gather(communicator, mine))
       for (const auto &result : from_rank)
         {
           records[result.step] = result.record;
           reports[result.step] = result.report;
+          starts[result.step]  = result.start;
         }
   }
 } // namespace TKR::Wear

@@ -11,7 +11,10 @@ VTU interval = 1) against its steps.csv and summary.json:
     active_nodes, and the femur's 'motion' field is the rigid flexion
     rotation about the x axis through FLEXION_AXIS_POINT by flexion_deg
     (plus the femur's elastic displacement, below 0.01 mm);
-  - wear.pvd: the largest wear_depth_nm equals max_wear_depth_mm.
+  - worn.pvd (one block): the largest wear_depth_mm equals
+    max_wear_depth_mm, and the largest wear rate times the block's cycles
+    equals it too;
+  - mass_loss.png and wear_map.png are PNG files.
 Prints one line per check with O(1) numbers; exits 1 on the first failure.
 Reads deal.II's zlib-compressed, base64-encoded VTU files with numpy only.
 """
@@ -145,14 +148,27 @@ def main():
               "femur motion = flexion of %.1f deg to 0.01 mm"
               % (step, pressure.max() / expected, n_active, float(row["flexion_deg"])))
 
-    wear = read_series(directory, "wear")
-    if len(wear) != 1:
-        fail("wear.pvd lists %d outputs, expected 1" % len(wear))
-    depth = wear[0][2]["wear_depth_nm"][:, 0].max()
-    expected = 1e6 * float(summary["max_wear_depth_mm"])
+    worn = read_series(directory, "worn")
+    if len(worn) != int(summary["blocks"]):
+        fail("worn.pvd lists %d outputs, summary.json %s blocks"
+             % (len(worn), summary["blocks"]))
+    cycles, _, fields = worn[-1]
+    depth = fields["wear_depth_mm"][:, 0].max()
+    expected = float(summary["max_wear_depth_mm"])
     if not close(depth, expected, 1e-5):
-        fail("largest wear_depth_nm %g, summary.json %g" % (depth, expected))
-    print("wear: largest wear_depth_nm / summary.json = %.6f" % (depth / expected))
+        fail("largest wear_depth_mm %g, summary.json %g" % (depth, expected))
+    if int(summary["blocks"]) == 1:
+        rate = fields["wear_rate_um_per_Mcycles"][:, 0].max()
+        if not close(1e-9 * rate * cycles, expected, 1e-5):
+            fail("largest wear rate %g um per million cycles x %g cycles "
+                 "differs from max_wear_depth_mm %g" % (rate, cycles, expected))
+    print("worn tibia: largest wear_depth_mm / summary.json = %.6f"
+          % (depth / expected))
+    for name in ("mass_loss.png", "wear_map.png"):
+        with open(os.path.join(directory, name), "rb") as f:
+            if f.read(8) != b"\x89PNG\r\n\x1a\n":
+                fail(name + " is not a PNG file")
+    print("plots: mass_loss.png and wear_map.png are PNG files")
     print("check_vtu: all checks passed")
 
 

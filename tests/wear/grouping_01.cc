@@ -28,7 +28,8 @@ namespace
       std::ofstream out(prm);
       out << prm_text << "subsection Gait\n  set Step groups = " << groups
           << "\nend\nsubsection Output\n  set Directory = results-" << prm
-          << "\n  set VTU interval = 0\n  set Testing = true\nend\n";
+          << "\n  set VTU interval = 0\n  set Plots = false\n  set Testing = "
+             "true\nend\n";
     }
     const auto      parameters = TKR::Parameters::read_parameters(prm);
     std::streambuf *screen     = std::cout.rdbuf(nullptr);
@@ -66,6 +67,7 @@ main(int argc, char **argv)
     "/../../data/iso14243-1.csv\n  set Steps per cycle = 10\n"
     "  set Flexion axis point = 0, -2, 53.001\n"
     "  set ML spring stiffness = 10\nend\n"
+    "subsection Wear\n  set Cycles per extrapolation step = 5e6\nend\n"
     "subsection Contact solver\n  set Initial contact distance = 0.05\nend\n";
 
   const auto two_groups = run(prm_text, 2, MPI_COMM_WORLD, "two groups");

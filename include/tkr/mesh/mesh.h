@@ -10,6 +10,7 @@
 
 #include <tkr/parameters/parameters.h>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -73,6 +74,16 @@ namespace TKR::Mesh
   void
   check_mesh(const dealii::Triangulation<3> &triangulation,
              const std::string              &filename);
+
+  /**
+   * The smallest Jacobian determinant of the trilinear map of a hexahedron
+   * with the vertices @p x (deal.II's lexicographic order) at its eight
+   * vertices: the triple products of the edges that leave each vertex
+   * (mm^3). Positive for a valid cell; zero or negative for a collapsed,
+   * twisted or inverted one.
+   */
+  double
+  min_vertex_jacobian(const std::array<dealii::Point<3>, 8> &x);
 
   /** Volumes (mm^3) and face areas (mm^2) of the tagged parts of a mesh. */
   struct MeshStatistics

@@ -12,6 +12,8 @@
 #include <tkr/mortar/contact_surface.h>
 #include <tkr/output/vtu_output.h>
 #include <tkr/wear/step_record.h>
+#include <tkr/wear/wear_state.h>
+#include <tkr/wear/worn_geometry.h>
 
 #include <string>
 #include <vector>
@@ -38,45 +40,17 @@ namespace TKR::Output
                   const std::vector<Wear::StepReport> &reports,
                   const MPI_Comm                       mpi_communicator);
 
-  /** One row of `wear_history.csv`: the state after an extrapolation block. */
-  struct WearHistoryRow
-  {
-    unsigned int block  = 0;
-    double       cycles = 0;
-    /** Worn volume (mm^3) and mass (mg) so far. */
-    double volume = 0, mass = 0;
-    /** Largest wear depth so far (mm). */
-    double max_depth = 0;
-    /** Worn part of tibia_contact (%). */
-    double wear_area_percent = 0;
-    /** Peak pressure (MPa) and largest contact area (mm^2) of the cycle. */
-    double peak_pressure = 0, max_contact_area = 0;
-    /** Wall time of the run so far (s). */
-    double wall_time = 0;
-  };
-
   /**
-   * `directory/wear_history.csv`, one row per extrapolation block, numbers
-   * with ten significant digits; without the wall time column if
-   * @p testing. The whole file is written again at every append, into a
-   * temporary file that is then renamed: it is never half written.
+   * `directory/wear_history.csv` with one row per extrapolation block,
+   * numbers with ten significant digits, without the wall time column if
+   * @p testing (written by rank 0). Written into a temporary file that is
+   * then renamed: it is never half written.
    */
-  class WearHistory
-  {
-  public:
-    WearHistory(const std::string &directory,
-                const bool         testing,
-                const MPI_Comm     mpi_communicator);
-
-    void
-    append(const WearHistoryRow &row);
-
-  private:
-    const std::string           filename;
-    const bool                  testing;
-    const MPI_Comm              mpi_communicator;
-    std::vector<WearHistoryRow> rows;
-  };
+  void
+  write_wear_history(const std::string                    &directory,
+                     const std::vector<Wear::BlockResult> &rows,
+                     const bool                            testing,
+                     const MPI_Comm                        mpi_communicator);
 
   /** What the VTU file of a gait step shows besides the solution. */
   struct StepFields
@@ -99,6 +73,57 @@ namespace TKR::Output
              const StepFields                   &fields,
              VtuSeries                          &series,
              const unsigned int                  index);
+
+  /**
+   * Per-vertex fields of the worn tibia after an extrapolation block
+   * (indexed by triangulation vertex; values away from tibia_contact are
+   * zero).
+   */
+  struct WornTibiaFields
+  {
+    /** Accumulated wear depth (mm). */
+    std::vector<double> depth;
+    /** Wear depth of the block's cycle per million cycles (um). */
+    std::vector<double> wear_rate;
+    /** Contact pressure at the step of the largest axial force (MPa). */
+    std::vector<double> peak_load_pressure;
+    /** Slip over the block's cycle (mm). */
+    std::vector<double> slip;
+  };
+
+  /**
+   * Output @p index of @p series, at time @p cycles: the tibia alone in its
+   * worn geometry (the mesh moved by the wear displacement, which is also
+   * written as the vector field `wear_displacement`), with @p fields.
+   */
+  void
+  write_worn_tibia(const Wear::WornGeometry &geometry,
+                   const WornTibiaFields    &fields,
+                   VtuSeries                &series,
+                   const unsigned int        index,
+                   const double              cycles);
+
+  /**
+   * `wear_map.csv` (x,y,z,depth_mm per tibia_contact node, worn positions)
+   * and `wear_map_faces.csv` (its quadrilaterals, node numbers in cyclic
+   * order) for scripts/plot-wear, on rank 0.
+   */
+  void
+  write_wear_map(const std::string            &directory,
+                 const Mortar::ContactSurface &surface,
+                 const Wear::WornGeometry     &geometry,
+                 const MPI_Comm                mpi_communicator);
+
+  /**
+   * Run scripts/plot-wear on @p directory (rank 0): mass_loss.png with the
+   * points of @p measured_file (if not empty) and wear_map.png. Returns an
+   * empty string on success, else what went wrong (the caller warns: the
+   * plots are a convenience, the results are in the files).
+   */
+  std::string
+  make_plots(const std::string &directory,
+             const std::string &measured_file,
+             const MPI_Comm     mpi_communicator);
 } // namespace TKR::Output
 
 #endif

@@ -187,6 +187,14 @@ namespace TKR::Parameters
     double cycles_per_extrapolation_step;
     /** Wear depth in mm above which a surface point counts as worn. */
     double wear_area_threshold;
+    /** Re-assemble the stiffness every this many blocks (0: never). */
+    unsigned int stiffness_update_interval;
+    /** Start each step from the same step of the previous block. */
+    bool warm_start;
+    /** Smallest allowed ratio of a tibia cell's Jacobian (worn/unworn). */
+    double distortion_limit;
+    /** Halve n_Delta and retry a block that distorts a cell too much. */
+    bool halve_step_on_distortion;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);
@@ -250,6 +258,10 @@ namespace TKR::Parameters
     unsigned int vtu_interval;
     /** Write a checkpoint every this many extrapolation steps (0: never). */
     unsigned int checkpoint_interval;
+    /** Measured mass loss (CSV) drawn into mass_loss.png ("" if none). */
+    std::string measured_mass_loss_file;
+    /** Draw mass_loss.png and wear_map.png at the end of a wear run. */
+    bool plots;
     /** Leave out timings and wall-clock numbers (for regression tests). */
     bool testing;
 

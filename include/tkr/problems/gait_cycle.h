@@ -43,20 +43,47 @@ namespace TKR::Problems
     /**
      * The waveform, the loads on the measured inferior surface, the
      * Dirichlet and tray constraints, the contact surfaces and the contact
-     * solver (set up: the condensed one factorises the stiffness). Call
-     * after TwoBodyModel::distribute_dofs().
+     * solver (set up by setup_solver()). Call after
+     * TwoBodyModel::distribute_dofs().
      */
     void
     setup();
 
     /**
-     * Solve this group's steps on the current geometry (printing each
-     * step's line as it is done if there is one group, all of them at the
-     * end otherwise) and gather every step's record and report on every
-     * rank. Returns true if every step converged.
+     * Set the contact solver up for the stiffness geometry of the model
+     * (the condensed solver assembles and factorises the stiffness there)
+     * and register the tibia's motion functionals. Again after every
+     * WornGeometry::update_stiffness_geometry().
+     */
+    void
+    setup_solver();
+
+    /**
+     * Solve this group's steps on the current geometry and gather every
+     * step's record, report and end state on every rank. Each step starts
+     * from its end state of the previous call if `Wear/Warm start` is set
+     * (and there is one), else from rest. With @p print_steps, each step's
+     * line is printed (as it is done if there is one group, all at the end
+     * otherwise); steps that did not converge are always printed. With
+     * @p keep_for_output, the steps of the `VTU interval` are kept for
+     * output_steps(). Returns true if every step converged.
      */
     bool
-    solve();
+    solve(const bool print_steps, const bool keep_for_output);
+
+    /** Each step's end state (after solve()), e.g. for a checkpoint. */
+    const std::vector<Wear::StepStart> &
+    get_step_starts() const
+    {
+      return starts;
+    }
+
+    /** Start the next solve() from these end states (restart). */
+    void
+    set_step_starts(const std::vector<Wear::StepStart> &step_starts)
+    {
+      starts = step_starts;
+    }
 
     /** Write the VTU files of the steps kept for output (`VTU interval`). */
     void
@@ -90,9 +117,14 @@ namespace TKR::Problems
     }
 
   private:
-    /** Solve step @p step: pose iteration of contact solves, record. */
+    /**
+     * Solve step @p step: pose iteration of contact solves, record; keep
+     * its solution for output if @p keep_for_output.
+     */
     void
-    solve_step(const unsigned int step);
+    solve_step(const unsigned int step,
+               const bool         print,
+               const bool         keep_for_output);
 
     /**
      * The vertex positions of a step: the femur's moved by @p femur_motion,
@@ -113,11 +145,10 @@ namespace TKR::Problems
     std::unique_ptr<Gait::TibiaPose>        tibia_pose;
     dealii::AffineConstraints<double>       dirichlet;
     std::vector<bool>                       is_femur_vertex;
-    std::unique_ptr<Mortar::ContactSurface> slave, master;
-    std::unique_ptr<Mortar::MortarCoupling> coupling;
     std::unique_ptr<Contact::ContactSolver> solver;
     std::vector<Wear::StepRecord>           records;
     std::vector<Wear::StepReport>           reports;
+    std::vector<Wear::StepStart>            starts;
 
     /** What the VTU of a step needs (its solution, state and motion). */
     struct SavedStep

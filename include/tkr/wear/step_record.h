@@ -9,6 +9,7 @@
 
 #include <tkr/contact/contact_state.h>
 #include <tkr/gait/rigid_motion.h>
+#include <tkr/gait/tibia_pose.h>
 #include <tkr/mortar/mortar_coupling.h>
 
 #include <boost/serialization/vector.hpp>
@@ -85,8 +86,26 @@ namespace TKR::Wear
   };
 
   /**
-   * Give every rank of @p communicator the records and reports of all
-   * steps: each step's are taken from the one rank that lists it in
+   * Where a gait step ended, for the warm start of the same step in the
+   * next extrapolation block: the tibia's pose and restraint forces, and
+   * the active set.
+   */
+  struct StepStart
+  {
+    Gait::PoseState   pose;
+    std::vector<bool> active;
+
+    template <class Archive>
+    void
+    serialize(Archive &archive, const unsigned int)
+    {
+      archive &pose &active;
+    }
+  };
+
+  /**
+   * Give every rank of @p communicator the records, reports and end states
+   * of all steps: each step's are taken from the one rank that lists it in
    * @p own_steps (the root of the step group that solved it; the others
    * list none).
    */
@@ -94,6 +113,7 @@ namespace TKR::Wear
   gather_steps(const std::vector<unsigned int> &own_steps,
                std::vector<StepRecord>         &records,
                std::vector<StepReport>         &reports,
+               std::vector<StepStart>          &starts,
                const MPI_Comm                   communicator);
 } // namespace TKR::Wear
 

@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#ifndef tkr_wear_wear_state_h
+#define tkr_wear_wear_state_h
+
+#include <deal.II/base/tensor.h>
+
+#include <tkr/wear/step_record.h>
+
+#include <vector>
+
+namespace TKR::Wear
+{
+  /**
+   * The state of the wear run after an extrapolation block: one row of
+   * `wear_history.csv`.
+   */
+  struct BlockResult
+  {
+    unsigned int block  = 0;
+    double       cycles = 0;
+    /** Worn volume (mm^3) and mass (mg) so far. */
+    double volume = 0, mass = 0;
+    /** Largest accumulated wear depth (mm). */
+    double max_depth = 0;
+    /** Worn part of tibia_contact (%, accumulated depth > threshold). */
+    double wear_area_percent = 0;
+    /** Peak pressure (MPa) and largest contact area (mm^2) of the cycle. */
+    double peak_pressure = 0, max_contact_area = 0;
+    /** Wall time of the run so far (s). */
+    double wall_time = 0;
+  };
+
+  /**
+   * Everything the loop over extrapolation blocks (DESIGN.md section 4.7)
+   * needs to go on: what a checkpoint holds. Geometry data is stored per
+   * triangulation vertex and per tibia_contact node, both independent of
+   * the number of ranks.
+   */
+  struct WearRunState
+  {
+    /** Blocks done and cycles done. */
+    unsigned int block  = 0;
+    double       cycles = 0;
+    /** n_Delta now (halved on distortion if configured). */
+    double cycles_per_block = 0;
+    /** The block after which the stiffness was last assembled. */
+    unsigned int stiffness_block = 0;
+    /** Displacement of every vertex: worn and stiffness geometry (mm). */
+    std::vector<dealii::Tensor<1, 3>> displacement, stiffness_displacement;
+    /** Accumulated wear depth of every vertex (mm). */
+    std::vector<double> depth;
+    /** Each gait step's end state of the last block (warm starts). */
+    std::vector<StepStart> step_starts;
+    /** One row per block done (and block 0). */
+    std::vector<BlockResult> history;
+    /** Worn volume (mm^3), sums over all blocks, every step converged. */
+    double             volume            = 0;
+    unsigned long long contact_solves    = 0;
+    unsigned long long newton_iterations = 0;
+    unsigned long long steps             = 0;
+    bool               converged         = true;
+    /** Peak pressure over the run (MPa). */
+    double max_pressure = 0;
+    /** Mass loss of the first cycle (mg), on the unworn insert. */
+    double first_cycle_mass = 0;
+    /** Wall time of the run before this start (s). */
+    double wall_time = 0;
+  };
+} // namespace TKR::Wear
+
+#endif

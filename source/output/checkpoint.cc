@@ -1,0 +1,257 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+//
+// The one file that writes and reads checkpoints of the wear run (as
+// ASPECT keeps its checkpoint_restart.cc): HDF5, rank-independent data.
+
+#include <deal.II/base/hdf5.h>
+#include <deal.II/base/mpi.h>
+
+#include <tkr/base/exceptions.h>
+#include <tkr/output/checkpoint.h>
+
+#include <cstdio>
+#include <filesystem>
+
+namespace TKR::Output
+{
+  using namespace dealii;
+
+  namespace
+  {
+    constexpr unsigned int format_version = 1;
+    /** Columns of the history dataset (Wear::BlockResult). */
+    constexpr unsigned int n_history_columns = 9;
+
+    /** A dataset of @p values with the dimensions @p dimensions. */
+    template <typename T>
+    void
+    write_dataset(HDF5::Group                &file,
+                  const std::string          &name,
+                  const std::vector<T>       &values,
+                  const std::vector<hsize_t> &dimensions)
+    {
+      if (values.empty())
+        return;
+      auto dataset = file.create_dataset<T>(name, dimensions);
+      dataset.write(values);
+    }
+
+    template <typename T>
+    std::vector<T>
+    read_dataset(const HDF5::Group &file, const std::string &name)
+    {
+      return file.open_dataset(name).read<std::vector<T>>();
+    }
+
+    std::vector<double>
+    flatten(const std::vector<Tensor<1, 3>> &vectors)
+    {
+      std::vector<double> values;
+      values.reserve(3 * vectors.size());
+      for (const auto &v : vectors)
+        values.insert(values.end(), {v[0], v[1], v[2]});
+      return values;
+    }
+
+    std::vector<Tensor<1, 3>>
+    unflatten(const std::vector<double> &values)
+    {
+      std::vector<Tensor<1, 3>> vectors(values.size() / 3);
+      for (unsigned int i = 0; i < vectors.size(); ++i)
+        for (unsigned int d = 0; d < 3; ++d)
+          vectors[i][d] = values[3 * i + d];
+      return vectors;
+    }
+  } // namespace
+
+  std::string
+  checkpoint_file(const std::string &directory)
+  {
+    return directory + "/checkpoint.h5";
+  }
+
+  void
+  write_checkpoint(const std::string        &directory,
+                   const Wear::WearRunState &state,
+                   const MPI_Comm            mpi_communicator)
+  {
+    if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+      {
+        const std::string temporary = checkpoint_file(directory) + ".tmp";
+        {
+          HDF5::File file(temporary, HDF5::File::FileAccessMode::create);
+          file.set_attribute("format_version", format_version);
+          file.set_attribute("block", state.block);
+          file.set_attribute("cycles", state.cycles);
+          file.set_attribute("cycles_per_block", state.cycles_per_block);
+          file.set_attribute("stiffness_block", state.stiffness_block);
+          file.set_attribute("volume", state.volume);
+          file.set_attribute("contact_solves", double(state.contact_solves));
+          file.set_attribute("newton_iterations",
+                             double(state.newton_iterations));
+          file.set_attribute("steps", double(state.steps));
+          file.set_attribute("converged", state.converged);
+          file.set_attribute("max_pressure", state.max_pressure);
+          file.set_attribute("first_cycle_mass", state.first_cycle_mass);
+          file.set_attribute("wall_time", state.wall_time);
+          file.set_attribute("n_vertices",
+                             static_cast<unsigned int>(state.depth.size()));
+          file.set_attribute("n_steps",
+                             static_cast<unsigned int>(
+                               state.step_starts.size()));
+
+          const hsize_t n_vertices = state.depth.size();
+          write_dataset(file,
+                        "displacement",
+                        flatten(state.displacement),
+                        {n_vertices, 3});
+          write_dataset(file,
+                        "stiffness_displacement",
+                        flatten(state.stiffness_displacement),
+                        {n_vertices, 3});
+          write_dataset(file, "depth", state.depth, {n_vertices});
+
+          // Warm starts: pose (translation, restraint force and torque)
+          // and active set of every step.
+          const hsize_t n_steps = state.step_starts.size();
+          const hsize_t n_nodes =
+            n_steps > 0 ? state.step_starts[0].active.size() : 0;
+          std::vector<double>       poses;
+          std::vector<unsigned int> active;
+          for (const auto &start : state.step_starts)
+            {
+              const auto &p = start.pose;
+              poses.insert(poses.end(),
+                           {p.translation[0],
+                            p.translation[1],
+                            p.translation[2],
+                            p.restraint_force,
+                            p.restraint_torque});
+              AssertThrow(start.active.size() == n_nodes,
+                          ExcMessage("Active sets of different sizes."));
+              active.insert(active.end(),
+                            start.active.begin(),
+                            start.active.end());
+            }
+          write_dataset(file, "step_pose", poses, {n_steps, 5});
+          write_dataset(file, "step_active", active, {n_steps, n_nodes});
+
+          std::vector<double> history;
+          for (const auto &r : state.history)
+            history.insert(history.end(),
+                           {double(r.block),
+                            r.cycles,
+                            r.volume,
+                            r.mass,
+                            r.max_depth,
+                            r.wear_area_percent,
+                            r.peak_pressure,
+                            r.max_contact_area,
+                            r.wall_time});
+          write_dataset(file,
+                        "history",
+                        history,
+                        {state.history.size(), n_history_columns});
+        }
+        AssertThrow(std::rename(temporary.c_str(),
+                                checkpoint_file(directory).c_str()) == 0,
+                    ExcInputError("Cannot write the checkpoint <" +
+                                  checkpoint_file(directory) + ">."));
+      }
+    const int ierr = MPI_Barrier(mpi_communicator);
+    AssertThrowMPI(ierr);
+  }
+
+  Wear::WearRunState
+  read_checkpoint(const std::string &directory,
+                  const unsigned int n_vertices,
+                  const unsigned int n_steps)
+  {
+    const std::string filename = checkpoint_file(directory);
+    AssertThrow(std::filesystem::exists(filename),
+                ExcInputError("--resume: there is no checkpoint <" + filename +
+                              "> (Output/Checkpoint interval > 0 writes "
+                              "one every that many blocks)."));
+    Wear::WearRunState state;
+    try
+      {
+        HDF5::File file(filename, HDF5::File::FileAccessMode::open);
+        AssertThrow(
+          file.get_attribute<unsigned int>("format_version") ==
+              format_version &&
+            file.get_attribute<unsigned int>("n_vertices") == n_vertices &&
+            file.get_attribute<unsigned int>("n_steps") == n_steps,
+          ExcInputError("The checkpoint <" + filename +
+                        "> belongs to another mesh or gait (vertices, steps "
+                        "per cycle) than the parameter file."));
+        state.block            = file.get_attribute<unsigned int>("block");
+        state.cycles           = file.get_attribute<double>("cycles");
+        state.cycles_per_block = file.get_attribute<double>("cycles_per_block");
+        state.stiffness_block =
+          file.get_attribute<unsigned int>("stiffness_block");
+        state.volume = file.get_attribute<double>("volume");
+        state.contact_solves =
+          std::llround(file.get_attribute<double>("contact_solves"));
+        state.newton_iterations =
+          std::llround(file.get_attribute<double>("newton_iterations"));
+        state.steps        = std::llround(file.get_attribute<double>("steps"));
+        state.converged    = file.get_attribute<bool>("converged");
+        state.max_pressure = file.get_attribute<double>("max_pressure");
+        state.first_cycle_mass = file.get_attribute<double>("first_cycle_mass");
+        state.wall_time        = file.get_attribute<double>("wall_time");
+
+        state.displacement =
+          unflatten(read_dataset<double>(file, "displacement"));
+        state.stiffness_displacement =
+          unflatten(read_dataset<double>(file, "stiffness_displacement"));
+        state.depth = read_dataset<double>(file, "depth");
+
+        const auto poses  = read_dataset<double>(file, "step_pose");
+        const auto active = read_dataset<unsigned int>(file, "step_active");
+        const unsigned int n_nodes = n_steps > 0 ? active.size() / n_steps : 0;
+        state.step_starts.resize(n_steps);
+        for (unsigned int s = 0; s < n_steps; ++s)
+          {
+            auto &start = state.step_starts[s];
+            for (unsigned int d = 0; d < 3; ++d)
+              start.pose.translation[d] = poses[5 * s + d];
+            start.pose.restraint_force  = poses[5 * s + 3];
+            start.pose.restraint_torque = poses[5 * s + 4];
+            start.active.assign(active.begin() + s * n_nodes,
+                                active.begin() + (s + 1) * n_nodes);
+          }
+
+        const auto history = read_dataset<double>(file, "history");
+        for (unsigned int i = 0; i + n_history_columns <= history.size();
+             i += n_history_columns)
+          {
+            const double *h = &history[i];
+            state.history.push_back({static_cast<unsigned int>(h[0]),
+                                     h[1],
+                                     h[2],
+                                     h[3],
+                                     h[4],
+                                     h[5],
+                                     h[6],
+                                     h[7],
+                                     h[8]});
+          }
+      }
+    catch (const ExcInputError &)
+      {
+        throw;
+      }
+    catch (const std::exception &exc)
+      {
+        AssertThrow(false,
+                    ExcInputError("Cannot read the checkpoint <" + filename +
+                                  ">: " + exc.what()));
+      }
+    AssertThrow(state.depth.size() == n_vertices &&
+                  state.displacement.size() == n_vertices,
+                ExcInputError("The checkpoint <" + filename +
+                              "> is incomplete."));
+    return state;
+  }
+} // namespace TKR::Output

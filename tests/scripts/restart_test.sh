@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# restart_test.sh TKR_WEAR MPIEXEC PRM REFERENCE_PREFIX
+# Restart equals the uninterrupted run: run PRM (a wear run with a
+# checkpoint after every block, output directory 'results') in the current
+# directory, kill it with SIGKILL as soon as the checkpoint after block 2
+# is written, resume it with `tkr-wear --resume` on 2 ranks and compare
+# wear_history.csv and steps.csv with the uninterrupted run's references
+# (REFERENCE_PREFIX.<file>).
+set -u
+exe=$1
+mpiexec=$2
+prm=$3
+reference=$4
+here=$(cd "$(dirname "$0")" && pwd)
+rm -rf results interrupted.log resumed.log
+"$exe" "$prm" > interrupted.log 2>&1 &
+pid=$!
+for _ in $(seq 1 3000); do
+  if grep -q "checkpoint written after block 2" interrupted.log; then
+    kill -9 "$pid"
+    break
+  fi
+  if ! kill -0 "$pid" 2>/dev/null; then
+    break
+  fi
+  sleep 0.1
+done
+wait "$pid" 2>/dev/null
+status=$?
+if [ "$status" -ne 137 ]; then
+  echo "restart_test: the run was not killed after block 2 (exit status $status):"
+  tail -5 interrupted.log
+  exit 1
+fi
+echo "restart_test: killed (SIGKILL) after the checkpoint of block 2"
+if ! "$mpiexec" -np 2 "$exe" --resume "$prm" > resumed.log 2>&1; then
+  echo "restart_test: the resumed run failed:"
+  tail -20 resumed.log
+  exit 1
+fi
+grep "Resumed from" resumed.log || { echo "restart_test: not resumed"; exit 1; }
+"$here/compare-files.sh" results "$reference" wear_history.csv steps.csv
