@@ -4,7 +4,14 @@
 set -euo pipefail
 
 TKR_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-TKR_PACKAGES="libdeal.ii-dev gmsh coinor-libipopt-dev numdiff clang-format cmake g++ make pkg-config python3-matplotlib python3-numpy"
+# libopenblas0-pthread: installing it makes OpenBLAS the system BLAS
+# (update-alternatives libblas.so.3), which CHOLMOD's supernodal
+# factorisation needs to be fast (medium TKR mesh: 1.4-2.7 s instead of
+# 7.6 s with the reference BLAS; doc/performance.md).
+# libsuitesparse-dev (CHOLMOD) and libmumps-dev (parallel MUMPS, for the
+# test contact/ipopt_mumps_01) come with libdeal.ii-dev anyway; listed
+# because tkr-wear uses them directly.
+TKR_PACKAGES="libdeal.ii-dev gmsh coinor-libipopt-dev numdiff clang-format cmake g++ make pkg-config libopenblas0-pthread libsuitesparse-dev libmumps-dev python3-matplotlib python3-numpy"
 TKR_JOBS=${TKR_JOBS:-$(nproc)}
 
 # OpenMPI refuses to start as root unless told that this is intended.

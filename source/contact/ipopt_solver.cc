@@ -4,193 +4,16 @@
 #include <deal.II/base/timer.h>
 
 #include <tkr/base/exceptions.h>
+#include <tkr/contact/ipopt_qp_loader.h>
 #include <tkr/contact/ipopt_solver.h>
 
-#include <IpIpoptApplication.hpp>
-#include <IpSolveStatistics.hpp>
-#include <IpTNLP.hpp>
-
 #include <limits>
+#include <memory>
 
 namespace TKR::Contact
 {
   using namespace dealii;
 
-  namespace
-  {
-    /**
-     * The contact QP in Ipopt's TNLP form. K is given by its lower triangle
-     * (Ipopt's convention for the Hessian), the constraints by their sparse
-     * rows.
-     */
-    class ContactQP : public Ipopt::TNLP
-    {
-    public:
-      using Index  = Ipopt::Index;
-      using Number = Ipopt::Number;
-
-      std::vector<Index>  K_row, K_col;
-      std::vector<Number> K_value, f, lower, upper;
-      std::vector<Index>  B_row, B_col;
-      std::vector<Number> B_value, gap_bound;
-      std::vector<Number> x_solution, lambda_solution;
-      bool                solved = false;
-
-      bool
-      get_nlp_info(Index          &n,
-                   Index          &m,
-                   Index          &nnz_jac_g,
-                   Index          &nnz_h_lag,
-                   IndexStyleEnum &index_style) override
-      {
-        n           = f.size();
-        m           = gap_bound.size();
-        nnz_jac_g   = B_value.size();
-        nnz_h_lag   = K_value.size();
-        index_style = C_STYLE;
-        return true;
-      }
-
-      bool
-      get_bounds_info(Index,
-                      Number *x_l,
-                      Number *x_u,
-                      Index   m,
-                      Number *g_l,
-                      Number *g_u) override
-      {
-        std::copy(lower.begin(), lower.end(), x_l);
-        std::copy(upper.begin(), upper.end(), x_u);
-        for (Index j = 0; j < m; ++j)
-          {
-            g_l[j] = gap_bound[j];
-            g_u[j] = 2e19;
-          }
-        return true;
-      }
-
-      bool
-      get_starting_point(Index n,
-                         bool,
-                         Number *x,
-                         bool,
-                         Number *,
-                         Number *,
-                         Index,
-                         bool,
-                         Number *) override
-      {
-        for (Index i = 0; i < n; ++i)
-          x[i] = std::min(std::max(0., lower[i]), upper[i]);
-        return true;
-      }
-
-      /** y = K x with K stored as its lower triangle. */
-      void
-      multiply(const Number *x, std::vector<Number> &y) const
-      {
-        y.assign(f.size(), 0.);
-        for (std::size_t e = 0; e < K_value.size(); ++e)
-          {
-            y[K_row[e]] += K_value[e] * x[K_col[e]];
-            if (K_row[e] != K_col[e])
-              y[K_col[e]] += K_value[e] * x[K_row[e]];
-          }
-      }
-
-      bool
-      eval_f(Index n, const Number *x, bool, Number &value) override
-      {
-        std::vector<Number> Kx;
-        multiply(x, Kx);
-        value = 0;
-        for (Index i = 0; i < n; ++i)
-          value += 0.5 * x[i] * Kx[i] - f[i] * x[i];
-        return true;
-      }
-
-      bool
-      eval_grad_f(Index n, const Number *x, bool, Number *gradient) override
-      {
-        std::vector<Number> Kx;
-        multiply(x, Kx);
-        for (Index i = 0; i < n; ++i)
-          gradient[i] = Kx[i] - f[i];
-        return true;
-      }
-
-      bool
-      eval_g(Index, const Number *x, bool, Index m, Number *g) override
-      {
-        std::fill(g, g + m, 0.);
-        for (std::size_t e = 0; e < B_value.size(); ++e)
-          g[B_row[e]] += B_value[e] * x[B_col[e]];
-        return true;
-      }
-
-      bool
-      eval_jac_g(Index,
-                 const Number *,
-                 bool,
-                 Index,
-                 Index,
-                 Index  *row,
-                 Index  *col,
-                 Number *values) override
-      {
-        if (values == nullptr)
-          {
-            std::copy(B_row.begin(), B_row.end(), row);
-            std::copy(B_col.begin(), B_col.end(), col);
-          }
-        else
-          std::copy(B_value.begin(), B_value.end(), values);
-        return true;
-      }
-
-      bool
-      eval_h(Index,
-             const Number *,
-             bool,
-             Number obj_factor,
-             Index,
-             const Number *,
-             bool,
-             Index,
-             Index  *row,
-             Index  *col,
-             Number *values) override
-      {
-        if (values == nullptr)
-          {
-            std::copy(K_row.begin(), K_row.end(), row);
-            std::copy(K_col.begin(), K_col.end(), col);
-          }
-        else
-          for (std::size_t e = 0; e < K_value.size(); ++e)
-            values[e] = obj_factor * K_value[e];
-        return true;
-      }
-
-      void
-      finalize_solution(Ipopt::SolverReturn status,
-                        Index               n,
-                        const Number       *x,
-                        const Number *,
-                        const Number *,
-                        Index m,
-                        const Number *,
-                        const Number *lambda,
-                        Number,
-                        const Ipopt::IpoptData *,
-                        Ipopt::IpoptCalculatedQuantities *) override
-      {
-        solved = (status == Ipopt::SUCCESS);
-        x_solution.assign(x, x + n);
-        lambda_solution.assign(lambda, lambda + m);
-      }
-    };
-  } // namespace
 
   ContactStatistics
   IpoptSolver::solve(const Mapping<3>                &mapping,
@@ -210,7 +33,8 @@ namespace TKR::Contact
     const auto        &K = elasticity.get_system_matrix();
     const unsigned int n = elasticity.get_dof_handler().n_dofs();
 
-    Ipopt::SmartPtr<ContactQP> qp = new ContactQP();
+    // The QP; Ipopt itself runs in a plugin (see solve_with_ipopt()).
+    auto qp = std::make_unique<QuadraticProgram>();
     qp->f.resize(n);
     for (unsigned int i = 0; i < n; ++i)
       qp->f[i] = elasticity.get_system_rhs()[i];
@@ -252,18 +76,7 @@ namespace TKR::Contact
             }
         }
 
-    Ipopt::SmartPtr<Ipopt::IpoptApplication> ipopt = IpoptApplicationFactory();
-    ipopt->Options()->SetIntegerValue("print_level", 0);
-    ipopt->Options()->SetStringValue("sb", "yes");
-    ipopt->Options()->SetNumericValue("tol", 1e-2 * parameters.tolerance);
-    ipopt->Options()->SetIntegerValue("max_iter", 500);
-    ipopt->Options()->SetStringValue("mu_strategy", "adaptive");
-    ipopt->Options()->SetStringValue("hessian_constant", "yes");
-    ipopt->Options()->SetStringValue("jac_c_constant", "yes");
-    ipopt->Options()->SetStringValue("jac_d_constant", "yes");
-    AssertThrow(ipopt->Initialize() == Ipopt::Solve_Succeeded,
-                ExcMessage("Ipopt could not be initialised."));
-    const Ipopt::ApplicationReturnStatus status = ipopt->OptimizeTNLP(qp);
+    solve_with_ipopt(*qp, 1e-2 * parameters.tolerance, 500);
 
     // Back into the elasticity solution and the contact state.
     TrilinosWrappers::MPI::Vector u(elasticity.locally_owned_dofs(),
@@ -274,10 +87,8 @@ namespace TKR::Contact
     elasticity.set_solution(u);
 
     ContactStatistics statistics;
-    statistics.converged = qp->solved && status == Ipopt::Solve_Succeeded;
-    statistics.newton_iterations = Ipopt::IsValid(ipopt->Statistics()) ?
-                                     ipopt->Statistics()->IterationCount() :
-                                     0;
+    statistics.converged         = qp->converged();
+    statistics.newton_iterations = qp->iterations;
     // Multipliers, gaps and the active set of the active-set method.
     const ActiveSetUpdate update(pcout, slave_youngs_modulus);
     state.active.assign(nodes.size(), false);

@@ -83,7 +83,7 @@ namespace TKR::Contact
     std::string
     description() const override
     {
-      return "condensed active set (sparse LU of the stiffness)";
+      return "condensed active set (sparse Cholesky of the stiffness)";
     }
 
     /** Number of stored columns of K^{-1}. */

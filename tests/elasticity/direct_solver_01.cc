@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+//
+// Elasticity::DirectSolver (CHOLMOD) on the two-body patch mesh, on 1 and 2
+// ranks: the stiffness with the femur clamped on femur_fixation and the
+// tibia clamped on tibia_inferior (inhomogeneous values) is factorised and
+// solved for several right-hand sides at once and for one; the residuals are at
+// round-off. Without the tibia's clamp the tibia floats: the factorisation must
+// refuse with the sentence about rigid-body motion.
+
+#include <deal.II/base/function.h>
+
+#include <deal.II/distributed/shared_tria.h>
+
+#include <deal.II/fe/mapping_q1.h>
+
+#include <deal.II/numerics/vector_tools.h>
+
+#include <tkr/base/exceptions.h>
+#include <tkr/elasticity/direct_solver.h>
+#include <tkr/elasticity/linear_elasticity.h>
+#include <tkr/mesh/mesh.h>
+
+#include "../tests.h"
+
+namespace
+{
+  double
+  max_relative_residual(const TrilinosWrappers::SparseMatrix &K,
+                        const Epetra_MultiVector             &X,
+                        const Epetra_MultiVector             &B)
+  {
+    Epetra_MultiVector R(B.Map(), B.NumVectors());
+    K.trilinos_matrix().Multiply(false, X, R);
+    R.Update(-1., B, 1.);
+    std::vector<double> r(B.NumVectors()), b(B.NumVectors());
+    R.Norm2(r.data());
+    B.Norm2(b.data());
+    double worst = 0;
+    for (int c = 0; c < B.NumVectors(); ++c)
+      worst = std::max(worst, r[c] / b[c]);
+    return worst;
+  }
+} // namespace
+
+int
+main(int argc, char **argv)
+{
+  using namespace TKR;
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  initlog();
+  const MPI_Comm comm = MPI_COMM_WORLD;
+
+  parallel::shared::Triangulation<3> triangulation(
+    comm,
+    Triangulation<3>::none,
+    false,
+    parallel::shared::Triangulation<3>::partition_metis);
+  Mesh::read_mesh(Parameters::Mesh::with_default_groups(
+                    std::string(SOURCE_DIR) +
+                    "/../../meshes/verification/patch-coarse.msh"),
+                  triangulation);
+  Parameters::Materials materials;
+  materials.femur = {220000., 0.31, 8.3};
+  materials.tibia = {1100., 0.42, 0.935};
+  const Parameters::LinearSolver linear{1e-10, 1000, true, 0.02, 2};
+  TimerOutput                    timer(comm,
+                    std::cout,
+                    TimerOutput::never,
+                    TimerOutput::wall_times);
+  MappingQ1<3>                   mapping;
+  Elasticity::LinearElasticity   elasticity(triangulation,
+                                          materials,
+                                          linear,
+                                          1,
+                                          comm,
+                                          timer);
+  elasticity.distribute_dofs();
+  deallog << "DoFs: " << elasticity.get_dof_handler().n_dofs() << std::endl;
+
+  Elasticity::BoundaryLoads loads;
+  loads.tractions[Mesh::BoundaryIds::femur_contact] =
+    Tensor<1, 3>({0.5, -1., 2.});
+  for (const bool clamp_tibia : {true, false})
+    {
+      AffineConstraints<double> constraints;
+      VectorTools::interpolate_boundary_values(
+        mapping,
+        elasticity.get_dof_handler(),
+        Mesh::BoundaryIds::femur_fixation,
+        Functions::ZeroFunction<3>(3),
+        constraints);
+      if (clamp_tibia)
+        VectorTools::interpolate_boundary_values(
+          mapping,
+          elasticity.get_dof_handler(),
+          Mesh::BoundaryIds::tibia_inferior,
+          Functions::ConstantFunction<3>(std::vector<double>{0.01, 0., -0.02}),
+          constraints);
+      constraints.close();
+      elasticity.setup_system(constraints);
+      elasticity.assemble_system(mapping, constraints, loads);
+      const auto &K = elasticity.get_system_matrix();
+
+      Elasticity::DirectSolver solver;
+      try
+        {
+          solver.factorize(K);
+        }
+      catch (const ExcInputError &e)
+        {
+          const std::string message = exception_message(e);
+          deallog << "tibia clamped: " << yes_no(clamp_tibia)
+                  << ", refused: " << message.substr(0, message.find(" ("))
+                  << " ... " << message.substr(message.find("): ") + 3)
+                  << std::endl;
+          continue;
+        }
+      deallog << "tibia clamped: " << yes_no(clamp_tibia)
+              << ", factorised: " << yes_no(solver.is_factorized())
+              << std::endl;
+
+      // Seven random right-hand sides at once (on 2 ranks: 3 and 4
+      // columns per rank), then the load vector alone.
+      Epetra_MultiVector B(solver.row_map(), 7), X(solver.row_map(), 7);
+      B.Random();
+      solver.solve(X, B);
+      deallog << "7 right-hand sides, residual below 1e-12: "
+              << yes_no(max_relative_residual(K, X, B) < 1e-12) << std::endl;
+
+      // A moved solver keeps its factorisation.
+      Elasticity::DirectSolver      moved = std::move(solver);
+      TrilinosWrappers::MPI::Vector u(elasticity.get_system_rhs());
+      moved.solve(u.trilinos_vector(),
+                  elasticity.get_system_rhs().trilinos_vector());
+      deallog << "load vector, residual below 1e-12: "
+              << yes_no(max_relative_residual(K,
+                                              u.trilinos_vector(),
+                                              elasticity.get_system_rhs()
+                                                .trilinos_vector()) < 1e-12)
+              << std::endl;
+    }
+}
