@@ -44,10 +44,12 @@ namespace TKR::Contact
   void
   CondensedActiveSetSolver::clear_columns()
   {
-    slave_columns.assign(coupling.slave_surface().nodes().size(), Column());
-    slave_column_loads.assign(slave_columns.size(), Tensor<1, 3>());
-    master_columns.assign(coupling.master_surface().nodes().size(), {});
+    node_columns.assign(coupling.slave_surface().nodes().size() +
+                          coupling.master_surface().nodes().size(),
+                        {});
     n_stored_columns = 0;
+    basis_rhs.clear();
+    basis_columns.clear();
   }
 
   unsigned int
@@ -124,52 +126,35 @@ namespace TKR::Contact
   }
 
   // The columns are solved in batches (the factors are applied to many
-  // right-hand sides at once); of each only the surface values and the
-  // observations are kept.
+  // right-hand sides at once); of each only its own body's surface values
+  // and the observations are kept.
   void
   CondensedActiveSetSolver::compute_columns(
-    const Mortar::MortarOperator    &B,
-    const std::vector<unsigned int> &slave,
-    const std::vector<unsigned int> &master)
+    const std::vector<unsigned int> &nodes)
   {
     TimerOutput::Scope scope(timer, "compliance columns");
-    const auto        &master_nodes = coupling.master_surface().nodes();
-    // (slave node, 3) or (master node, direction).
-    std::vector<std::pair<unsigned int, unsigned int>> loads;
-    for (const unsigned int j : slave)
-      loads.emplace_back(j, 3);
-    for (const unsigned int k : master)
-      for (unsigned int d = 0; d < 3; ++d)
-        loads.emplace_back(k, d);
     const unsigned int batch = 128, n = surface_dofs.size();
-    for (unsigned int start = 0; start < loads.size(); start += batch)
+    const unsigned int n_observations = observation_weights.size();
+    for (unsigned int start = 0; start < 3 * nodes.size(); start += batch)
       {
         const unsigned int n_columns =
-          std::min<unsigned int>(batch, loads.size() - start);
+          std::min<unsigned int>(batch, 3 * nodes.size() - start);
         Epetra_MultiVector rhs(direct_solver.row_map(), n_columns);
         Epetra_MultiVector X(direct_solver.row_map(), n_columns);
         for (unsigned int c = 0; c < n_columns; ++c)
-          {
-            const auto [node, d] = loads[start + c];
-            if (d == 3)
-              {
-                for (auto e = B.begin(node); e != B.end(node); ++e)
-                  if (e->column < n_slave_values)
-                    add_load(rhs, c, surface_dofs[e->column], e->value);
-              }
-            else
-              add_load(rhs, c, master_nodes[node].dofs[d], 1.);
-          }
+          add_load(rhs,
+                   c,
+                   surface_dofs[3 * nodes[(start + c) / 3] + (start + c) % 3],
+                   1.);
         direct_solver.solve(X, rhs);
-        const std::vector<double> values         = read_surface(X, false);
-        const std::vector<double> observations   = observe(X);
-        const unsigned int        n_observations = observation_weights.size();
+        const std::vector<double> values       = read_surface(X, false);
+        const std::vector<double> observations = observe(X);
         for (unsigned int c = 0; c < n_columns; ++c)
           {
-            const auto [node, d] = loads[start + c];
-            const double *column = &values[c * n];
+            const unsigned int node   = nodes[(start + c) / 3];
+            const double      *column = &values[c * n];
             // The other body's part must vanish (K does not couple them).
-            const bool    is_slave = (d == 3);
+            const bool    is_slave = 3 * node < n_slave_values;
             const double *own   = is_slave ? column : column + n_slave_values;
             const double *other = is_slave ? column + n_slave_values : column;
             const unsigned int n_own =
@@ -188,8 +173,7 @@ namespace TKR::Contact
                           "couples the tibia_contact and femur_contact "
                           "surfaces. Use Contact solver/Solver = active "
                           "set."));
-            Column &stored =
-              is_slave ? slave_columns[node] : master_columns[node][d];
+            Column &stored = node_columns[node][(start + c) % 3];
             stored.surface.assign(own, own + n_own);
             stored.observations.assign(observations.begin() +
                                          c * n_observations,
@@ -198,85 +182,185 @@ namespace TKR::Contact
           }
         n_stored_columns += n_columns;
       }
-    for (const unsigned int j : slave)
-      for (auto e = B.begin(j); e != B.end(j); ++e)
-        if (e->column < n_slave_values)
-          slave_column_loads[j][e->column - 3 * j] = e->value;
   }
 
-  // z_i = K^{-1} B_i^T: the slave part is one stored column, the master
-  // part sum_c B_ic K^{-1} e_c over the master entries of row i.
-  CondensedActiveSetSolver::Column
-  CondensedActiveSetSolver::compliance(const Mortar::MortarOperator &B,
-                                       const unsigned int            i) const
-  {
-    const unsigned int n_observations = observation_weights.size();
-    Column             z;
-    z.surface.assign(surface_dofs.size(), 0.);
-    z.observations = slave_columns[i].observations;
-    std::copy(slave_columns[i].surface.begin(),
-              slave_columns[i].surface.end(),
-              z.surface.begin());
-    for (auto e = B.begin(i); e != B.end(i); ++e)
-      if (e->column >= n_slave_values)
-        {
-          const unsigned int c = e->column - n_slave_values;
-          const Column      &m = master_columns[c / 3][c % 3];
-          for (unsigned int r = 0; r < n_master_values; ++r)
-            z.surface[n_slave_values + r] += e->value * m.surface[r];
-          for (unsigned int o = 0; o < n_observations; ++o)
-            z.observations[o] += e->value * m.observations[o];
-        }
-    return z;
-  }
-
-  // The Newton iteration on the multipliers. Per iteration: the columns the
-  // active set needs, z_i = K^{-1} B_i^T at the surface for every active
-  // node i, the dense matrix W_AA = B_A z_A, its Cholesky solve for
-  // lambda_A, then the surface displacement u = u_0 - sum_i lambda_i z_i
-  // gives the gaps of all nodes and the next active set.
+  // u_0 = K^{-1} f with f the tractions of the loads (the springs are in
+  // K) and the Dirichlet values.
   ContactStatistics
   CondensedActiveSetSolver::solve(const Mapping<3>                &mapping,
                                   const Elasticity::BoundaryLoads &loads,
                                   const double  initial_distance,
                                   ContactState &state)
   {
-    const auto        &nodes   = coupling.slave_nodes();
-    const unsigned int n_slave = nodes.size();
     Assert(direct_solver.is_factorized(),
            ExcMessage("Call setup() before solve()."));
-    const Mortar::MortarOperator B(coupling);
-
-    // u_0 = K^{-1} f.
     elasticity.assemble_rhs(mapping, dirichlet, loads);
     TrilinosWrappers::MPI::Vector f = elasticity.get_system_rhs();
     f += dirichlet_rhs;
     TrilinosWrappers::MPI::Vector u0(f);
-    ContactStatistics             statistics;
+    double                        relative_residual;
     {
       TimerOutput::Scope scope(timer, "direct solve");
       direct_solver.solve(u0.trilinos_vector(), f.trilinos_vector());
-      // The accuracy of the factorisation; the rest is dense algebra on
-      // its columns.
       TrilinosWrappers::MPI::Vector residual(f);
-      statistics.relative_residual =
+      relative_residual =
         elasticity.get_system_matrix().residual(residual, u0, f) /
         std::max(f.l2_norm(), std::numeric_limits<double>::min());
     }
     const std::vector<double> u0_observations = observe(u0.trilinos_vector());
     dirichlet.distribute(u0);
-    const std::vector<double> u0_surface =
-      read_surface(u0.trilinos_vector(), true);
+    ContactStatistics statistics =
+      iterate(read_surface(u0.trilinos_vector(), true),
+              u0_observations,
+              initial_distance,
+              state);
+    statistics.relative_residual = relative_residual;
+    statistics.converged =
+      statistics.converged && relative_residual <= parameters.tolerance;
+    last_rhs = f;
+    return statistics;
+  }
+
+  // One batch of back substitutions: the basis loads and the Dirichlet
+  // values (as the last basis "load", coefficient 1).
+  void
+  CondensedActiveSetSolver::set_load_basis(
+    const Mapping<3>                             &mapping,
+    const std::vector<Elasticity::BoundaryLoads> &basis)
+  {
+    ContactSolver::set_load_basis(mapping, basis);
+    TimerOutput::Scope scope(timer, "direct solve");
+    basis_rhs.clear();
+    for (const auto &load : basis)
+      {
+        elasticity.assemble_rhs(mapping, dirichlet, load);
+        basis_rhs.push_back(elasticity.get_system_rhs());
+      }
+    basis_rhs.push_back(dirichlet_rhs);
+    const unsigned int n_basis = basis_rhs.size();
+    Epetra_MultiVector rhs(direct_solver.row_map(), n_basis);
+    Epetra_MultiVector X(direct_solver.row_map(), n_basis);
+    for (unsigned int b = 0; b < n_basis; ++b)
+      *rhs(b) = *basis_rhs[b].trilinos_vector()(0);
+    direct_solver.solve(X, rhs);
+    basis_residual = 0;
+    TrilinosWrappers::MPI::Vector u(basis_rhs[0]), residual(basis_rhs[0]);
+    for (unsigned int b = 0; b < n_basis; ++b)
+      {
+        *u.trilinos_vector()(0) = *X(b);
+        const double norm       = basis_rhs[b].l2_norm();
+        if (norm > 0)
+          basis_residual = std::max(
+            basis_residual,
+            elasticity.get_system_matrix().residual(residual, u, basis_rhs[b]) /
+              norm);
+        dirichlet.distribute(u);
+        *X(b) = *u.trilinos_vector()(0);
+      }
+    const std::vector<double> values         = read_surface(X, true);
+    const std::vector<double> observations   = observe(X);
+    const unsigned int        n              = surface_dofs.size();
+    const unsigned int        n_observations = observation_weights.size();
+    basis_columns.resize(n_basis);
+    for (unsigned int b = 0; b < n_basis; ++b)
+      {
+        basis_columns[b].surface.assign(values.begin() + b * n,
+                                        values.begin() + (b + 1) * n);
+        basis_columns[b].observations.assign(observations.begin() +
+                                               b * n_observations,
+                                             observations.begin() +
+                                               (b + 1) * n_observations);
+      }
+  }
+
+  // u_0 = sum_i c_i K^{-1} f_i + K^{-1} f_Dirichlet from the stored
+  // solutions.
+  ContactStatistics
+  CondensedActiveSetSolver::solve(const Mapping<3> &,
+                                  const std::vector<double> &coefficients,
+                                  const double               initial_distance,
+                                  ContactState              &state)
+  {
+    AssertThrow(!basis_columns.empty() &&
+                  coefficients.size() + 1 == basis_columns.size(),
+                ExcMessage("Call set_load_basis() with as many loads as "
+                           "coefficients before this solve()."));
+    std::vector<double> u0(basis_columns.back().surface);
+    std::vector<double> u0_observations(basis_columns.back().observations);
+    for (unsigned int b = 0; b < coefficients.size(); ++b)
+      {
+        const Column &column = basis_columns[b];
+        for (unsigned int r = 0; r < u0.size(); ++r)
+          u0[r] += coefficients[b] * column.surface[r];
+        for (unsigned int o = 0; o < u0_observations.size(); ++o)
+          u0_observations[o] += coefficients[b] * column.observations[o];
+      }
+    ContactStatistics statistics =
+      iterate(u0, u0_observations, initial_distance, state);
+    statistics.relative_residual = basis_residual;
+    statistics.converged =
+      statistics.converged && basis_residual <= parameters.tolerance;
+    last_rhs.clear();
+    last_coefficients = coefficients;
+    return statistics;
+  }
+
+  // The Newton iteration on the multipliers, on the contact zone: the
+  // surface values that the rows of covered nodes reference (compact
+  // index k, surface value zone[k]). Per iteration: the columns the
+  // active set needs, z_i = K^{-1} B_i^T on the zone for every active
+  // node i, the dense matrix W_AA = B_A z_A, its Cholesky solve for
+  // lambda_A, then u = u_0 - sum_i lambda_i z_i gives the gaps of all
+  // covered nodes and the next active set.
+  ContactStatistics
+  CondensedActiveSetSolver::iterate(const std::vector<double> &u0,
+                                    const std::vector<double> &u0_observations,
+                                    const double               initial_distance,
+                                    ContactState              &state)
+  {
+    const auto                  &nodes   = coupling.slave_nodes();
+    const unsigned int           n_slave = nodes.size();
+    const Mortar::MortarOperator B(coupling);
+
+    // The zone and the rows of the covered nodes on it.
+    std::vector<unsigned int> zone;
+    for (unsigned int j = 0; j < n_slave; ++j)
+      if (nodes[j].covered)
+        for (auto e = B.begin(j); e != B.end(j); ++e)
+          zone.push_back(e->column);
+    std::sort(zone.begin(), zone.end());
+    zone.erase(std::unique(zone.begin(), zone.end()), zone.end());
+    const unsigned int n_zone_slave =
+      std::lower_bound(zone.begin(), zone.end(), n_slave_values) - zone.begin();
+    std::vector<std::vector<Mortar::MortarOperator::Entry>> rows(n_slave);
+    for (unsigned int j = 0; j < n_slave; ++j)
+      if (nodes[j].covered)
+        for (auto e = B.begin(j); e != B.end(j); ++e)
+          rows[j].push_back(
+            {static_cast<unsigned int>(
+               std::lower_bound(zone.begin(), zone.end(), e->column) -
+               zone.begin()),
+             e->value});
+    const auto apply = [&](const unsigned int j, const std::vector<double> &v) {
+      double result = 0;
+      for (const auto &e : rows[j])
+        result += e.value * v[e.column];
+      return result;
+    };
+    std::vector<double> u0_zone(zone.size());
+    for (unsigned int k = 0; k < zone.size(); ++k)
+      u0_zone[k] = u0[zone[k]];
 
     start_state(coupling, initial_distance, state);
 
+    ContactStatistics   statistics;
     ActiveSetUpdate     active_set_update(pcout, slave_youngs_modulus);
     const unsigned int  n_columns_before = n_stored_columns;
-    std::vector<double> u_surface;
-    // z_i for the nodes needed so far in this solve (the geometry, and so
-    // B, is fixed within it).
+    const unsigned int  n_observations   = observation_weights.size();
+    std::vector<double> u_zone;
+    // z_i on the zone for the nodes needed so far in this solve (the
+    // geometry, and so B, is fixed within it).
     std::vector<Column> z(n_slave);
-
     for (unsigned int iteration = 1; iteration <= parameters.max_iterations;
          ++iteration)
       {
@@ -287,28 +371,15 @@ namespace TKR::Contact
             active.push_back(j);
 
         // The columns this active set needs.
-        std::vector<unsigned int> slave_needed, master_needed;
+        std::vector<unsigned int> needed;
         for (const unsigned int i : active)
-          {
-            Tensor<1, 3> load;
-            for (auto e = B.begin(i); e != B.end(i); ++e)
-              if (e->column < n_slave_values)
-                load[e->column - 3 * i] = e->value;
-            if (slave_columns[i].surface.empty() ||
-                (slave_column_loads[i] - load).norm() > 1e-12 * load.norm())
-              slave_needed.push_back(i);
-            for (auto e = B.begin(i); e != B.end(i); ++e)
-              if (e->column >= n_slave_values &&
-                  master_columns[(e->column - n_slave_values) / 3][0]
-                    .surface.empty())
-                master_needed.push_back((e->column - n_slave_values) / 3);
-          }
-        std::sort(master_needed.begin(), master_needed.end());
-        master_needed.erase(std::unique(master_needed.begin(),
-                                        master_needed.end()),
-                            master_needed.end());
-        if (!slave_needed.empty() || !master_needed.empty())
-          compute_columns(B, slave_needed, master_needed);
+          for (auto e = B.begin(i); e != B.end(i); ++e)
+            if (node_columns[e->column / 3][e->column % 3].surface.empty())
+              needed.push_back(e->column / 3);
+        std::sort(needed.begin(), needed.end());
+        needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
+        if (!needed.empty())
+          compute_columns(needed);
 
         const unsigned int n_active = active.size();
         Vector<double>     lambda(n_active);
@@ -316,17 +387,37 @@ namespace TKR::Contact
           TimerOutput::Scope scope(timer, "condensed Newton step");
           for (const unsigned int i : active)
             if (z[i].surface.empty())
-              z[i] = compliance(B, i);
+              {
+                // z_i = sum_c B_ic K^{-1} e_c on the zone: a slave column
+                // on the zone's slave values, a master one on its master
+                // values.
+                z[i].surface.assign(zone.size(), 0.);
+                z[i].observations.assign(n_observations, 0.);
+                for (auto e = B.begin(i); e != B.end(i); ++e)
+                  {
+                    const Column &column =
+                      node_columns[e->column / 3][e->column % 3];
+                    const bool         is_slave = e->column < n_slave_values;
+                    const unsigned int first    = is_slave ? 0 : n_zone_slave;
+                    const unsigned int last =
+                      is_slave ? n_zone_slave : zone.size();
+                    const unsigned int offset = is_slave ? 0 : n_slave_values;
+                    for (unsigned int k = first; k < last; ++k)
+                      z[i].surface[k] +=
+                        e->value * column.surface[zone[k] - offset];
+                    for (unsigned int o = 0; o < n_observations; ++o)
+                      z[i].observations[o] += e->value * column.observations[o];
+                  }
+              }
 
           // W_AA lambda_A = -g_0,A with g_0 = g - B u_0.
           LAPACKFullMatrix<double> W(n_active, n_active);
           for (unsigned int a = 0; a < n_active; ++a)
             {
               const unsigned int j = active[a];
-              lambda(a) =
-                -(nodes[j].weighted_gap - B.apply_row(j, u0_surface.data()));
+              lambda(a) = -(nodes[j].weighted_gap - apply(j, u0_zone));
               for (unsigned int b = 0; b < n_active; ++b)
-                W(a, b) = B.apply_row(j, z[active[b]].surface.data());
+                W(a, b) = apply(j, z[active[b]].surface);
             }
           if (n_active > 0)
             {
@@ -340,20 +431,21 @@ namespace TKR::Contact
               W.solve(lambda);
             }
 
-          // Surface displacement, pressures and gaps.
-          u_surface = u0_surface;
+          // Displacement on the zone, pressures and gaps.
+          u_zone = u0_zone;
           for (unsigned int a = 0; a < n_active; ++a)
             {
               const auto &z_i = z[active[a]].surface;
-              for (unsigned int r = 0; r < u_surface.size(); ++r)
-                u_surface[r] -= lambda(a) * z_i[r];
+              for (unsigned int k = 0; k < zone.size(); ++k)
+                u_zone[k] -= lambda(a) * z_i[k];
             }
           std::fill(state.pressure.begin(), state.pressure.end(), 0.);
           for (unsigned int a = 0; a < n_active; ++a)
             state.pressure[active[a]] = lambda(a);
           for (unsigned int j = 0; j < n_slave; ++j)
             if (nodes[j].covered)
-              state.gap[j] = B.gap(j, u_surface.data());
+              state.gap[j] =
+                (nodes[j].weighted_gap - apply(j, u_zone)) / nodes[j].D;
         }
 
         const unsigned int n_changed =
@@ -369,20 +461,29 @@ namespace TKR::Contact
         active_set_update.update(coupling, state);
       }
 
-    statistics.converged = statistics.converged &&
-                           statistics.relative_residual <= parameters.tolerance;
+    // The displacement of every slave node (the wear's slip needs it also
+    // away from the zone) and the observed functionals, from the nodes
+    // that carry a multiplier (those of the last Newton step):
+    // u = u_0 - sum_i lambda_i z_i, w . u likewise.
+    std::vector<double> u_slave(u0.begin(), u0.begin() + n_slave_values);
+    observed = u0_observations;
+    for (unsigned int i = 0; i < n_slave; ++i)
+      if (state.pressure[i] != 0.)
+        {
+          for (auto e = B.begin(i); e != B.end(i); ++e)
+            if (e->column < n_slave_values)
+              {
+                const auto &column =
+                  node_columns[e->column / 3][e->column % 3].surface;
+                for (unsigned int r = 0; r < n_slave_values; ++r)
+                  u_slave[r] -= state.pressure[i] * e->value * column[r];
+              }
+          for (unsigned int m = 0; m < observed.size(); ++m)
+            observed[m] -= state.pressure[i] * z[i].observations[m];
+        }
     for (unsigned int j = 0; j < n_slave; ++j)
       for (unsigned int e = 0; e < 3; ++e)
-        state.displacement[j][e] = u_surface[3 * j + e];
-    // The observed functionals: w . u = w . u_0 - sum_i lambda_i w . z_i
-    // (over the nodes that carry a multiplier: those of the last Newton
-    // step, whose z_i are known).
-    observed = u0_observations;
-    for (unsigned int j = 0; j < n_slave; ++j)
-      if (state.pressure[j] != 0.)
-        for (unsigned int m = 0; m < observed.size(); ++m)
-          observed[m] -= state.pressure[j] * z[j].observations[m];
-    last_rhs                    = f;
+        state.displacement[j][e] = u_slave[3 * j + e];
     last_state                  = state;
     statistics.computed_columns = n_stored_columns - n_columns_before;
     add_contact_results(coupling, state, statistics);

@@ -31,14 +31,39 @@ namespace TKR::Contact
   void
   ContactSolver::setup(const Mapping<3> &,
                        const AffineConstraints<double> &dirichlet_constraints,
-                       const Elasticity::BoundaryLoads &)
+                       const Elasticity::BoundaryLoads &loads)
   {
+    springs               = Elasticity::BoundaryLoads();
+    springs.springs       = loads.springs;
+    springs.spring_fields = loads.spring_fields;
     dirichlet.clear();
     dirichlet.copy_from(dirichlet_constraints);
     observation_weights.clear();
     observed.clear();
     // A system of the right size (e.g. for assembling observation weights).
     elasticity.setup_system(dirichlet);
+  }
+
+  void
+  ContactSolver::set_load_basis(
+    const Mapping<3> &,
+    const std::vector<Elasticity::BoundaryLoads> &basis)
+  {
+    load_basis = basis;
+  }
+
+  ContactStatistics
+  ContactSolver::solve(const Mapping<3>          &mapping,
+                       const std::vector<double> &coefficients,
+                       const double               initial_distance,
+                       ContactState              &state)
+  {
+    return solve(mapping,
+                 Elasticity::linear_combination(load_basis,
+                                                coefficients,
+                                                springs),
+                 initial_distance,
+                 state);
   }
 
   unsigned int

@@ -20,6 +20,7 @@
 #include <Teuchos_ParameterList.hpp>
 
 #include <algorithm>
+#include <set>
 
 namespace TKR::Elasticity
 {
@@ -60,6 +61,34 @@ namespace TKR::Elasticity
     if (const auto it = spring_fields.find(id); it != spring_fields.end())
       S += it->second(x);
     return S;
+  }
+
+  BoundaryLoads
+  linear_combination(const std::vector<BoundaryLoads> &basis,
+                     const std::vector<double>        &coefficients,
+                     const BoundaryLoads              &springs)
+  {
+    AssertDimension(basis.size(), coefficients.size());
+    BoundaryLoads loads;
+    loads.springs       = springs.springs;
+    loads.spring_fields = springs.spring_fields;
+    std::set<types::boundary_id> ids;
+    for (const auto &b : basis)
+      {
+        for (const auto &[id, t] : b.tractions)
+          ids.insert(id);
+        for (const auto &[id, t] : b.traction_fields)
+          ids.insert(id);
+      }
+    for (const types::boundary_id id : ids)
+      loads.traction_fields[id] = [basis, coefficients, id](const Point<3> &x) {
+        Tensor<1, 3> t;
+        for (unsigned int i = 0; i < basis.size(); ++i)
+          if (coefficients[i] != 0.)
+            t += coefficients[i] * basis[i].traction(id, x);
+        return t;
+      };
+    return loads;
   }
 
   const Parameters::Material &

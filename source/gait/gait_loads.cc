@@ -107,40 +107,61 @@ namespace TKR::Gait
   //   t_z = F/A + (F e) dx / I_xx        carries F_z and the offset moment,
   //   t_y = F_AP / A                     the AP force,
   //   t   = T (-dy, dx, 0) / J           the torque T about z,
-  // and the springs S = k_x e_x e_x + k_y e_y e_y + beta w w^T with
-  // w = (-dy, dx, 0) have the rigid-body stiffnesses k_AP in y and k_IE
-  // against a rotation about z once k_y and beta are chosen as below.
+  // each given here for a unit force or torque.
+  std::vector<Elasticity::BoundaryLoads>
+  GaitLoads::traction_basis() const
+  {
+    const double e = parameters.medial_direction *
+                     parameters.axial_load_offset * surface.width;
+    const double   A = surface.area, I_xx = surface.I_xx, J = surface.J;
+    const Point<3> c  = surface.centroid;
+    const auto     id = Mesh::BoundaryIds::tibia_inferior;
+    std::vector<Elasticity::BoundaryLoads> basis(3);
+    basis[0].traction_fields[id] = [=](const Point<3> &x) {
+      return Tensor<1, 3>({0., 0., 1. / A + e * (x[0] - c[0]) / I_xx});
+    };
+    basis[1].tractions[id]       = Tensor<1, 3>({0., 1. / A, 0.});
+    basis[2].traction_fields[id] = [=](const Point<3> &x) {
+      return Tensor<1, 3>({-(x[1] - c[1]) / J, (x[0] - c[0]) / J, 0.});
+    };
+    return basis;
+  }
+
+  std::vector<double>
+  GaitLoads::resultants(const GaitState &state) const
+  {
+    return {force(state)[2], force(state)[1], moment(state)[2]};
+  }
+
   Elasticity::BoundaryLoads
   GaitLoads::loads(const GaitState &state) const
   {
-    const Tensor<1, 3> F    = force(state);
-    const Tensor<1, 3> M    = moment(state);
-    const double       e    = -M[1] / (F[2] != 0. ? F[2] : 1.);
-    const double       A    = surface.area;
-    const Point<3>     c    = surface.centroid;
-    const double       I_xx = surface.I_xx, J = surface.J;
+    return Elasticity::linear_combination(traction_basis(),
+                                          resultants(state),
+                                          springs());
+  }
 
-    Elasticity::BoundaryLoads loads;
-    loads.traction_fields[Mesh::BoundaryIds::tibia_inferior] =
-      [=](const Point<3> &x) {
-        const double dx = x[0] - c[0], dy = x[1] - c[1];
-        return Tensor<1, 3>({-M[2] * dy / J,
-                             F[1] / A + M[2] * dx / J,
-                             F[2] / A + F[2] * e * dx / I_xx});
-      };
-
-    // A rotation spring beta w w^T also resists translations (by beta I_yy
-    // in x and beta I_xx in y). The y spring is reduced by that amount so
-    // that the AP and IE stiffnesses are exact; in x the by-product adds to
-    // the ML spring (documented in doc/gait.md).
-    const double k_x  = parameters.ml_spring_stiffness / A;
-    const double K_ap = parameters.ap_spring_stiffness;
-    const double K_ie = parameters.ie_spring_stiffness * 180. / numbers::PI;
-    const double beta =
+  // The springs S = k_x e_x e_x + k_y e_y e_y + beta w w^T with
+  // w = (-dy, dx, 0) have the rigid-body stiffnesses k_AP in y and k_IE
+  // against a rotation about z once k_y and beta are chosen as below.
+  // A rotation spring beta w w^T also resists translations (by beta I_yy
+  // in x and beta I_xx in y). The y spring is reduced by that amount so
+  // that the AP and IE stiffnesses are exact; in x the by-product adds to
+  // the ML spring (documented in doc/gait.md).
+  Elasticity::BoundaryLoads
+  GaitLoads::springs() const
+  {
+    const double   A    = surface.area;
+    const Point<3> c    = surface.centroid;
+    const double   k_x  = parameters.ml_spring_stiffness / A;
+    const double   K_ap = parameters.ap_spring_stiffness;
+    const double   K_ie = parameters.ie_spring_stiffness * 180. / numbers::PI;
+    const double   beta =
       std::max(0.,
                (K_ie - k_x * surface.I_yy - K_ap * surface.I_xx / A) /
                  (surface.R4 - surface.I_xx * surface.I_xx / A));
     const double k_y = std::max(0., (K_ap - beta * surface.I_xx) / A);
+    Elasticity::BoundaryLoads loads;
     loads.spring_fields[Mesh::BoundaryIds::tibia_inferior] =
       [=](const Point<3> &x) {
         const Tensor<1, 3> w({-(x[1] - c[1]), x[0] - c[0], 0.});
@@ -188,13 +209,10 @@ namespace TKR::Gait
   GaitLoads::restraint_traction(const double force_y,
                                 const double torque_z) const
   {
-    const double   A = surface.area, J = surface.J;
-    const Point<3> c = surface.centroid;
-    return [=](const Point<3> &x) {
-      const double dx = x[0] - c[0], dy = x[1] - c[1];
-      return Tensor<1, 3>(
-        {-torque_z * dy / J, force_y / A + torque_z * dx / J, 0.});
-    };
+    const auto loads = Elasticity::linear_combination(traction_basis(),
+                                                      {0., force_y, torque_z},
+                                                      {});
+    return loads.traction_fields.at(Mesh::BoundaryIds::tibia_inferior);
   }
 
   RigidMotion

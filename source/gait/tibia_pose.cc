@@ -99,23 +99,53 @@ namespace TKR::Gait
   // pose only, so that no linear system is singular while the active set
   // is still wrong; it vanishes as the pose converges.
   Elasticity::BoundaryLoads
-  TibiaPose::loads(const GaitState &gait, const PoseState &pose) const
+  TibiaPose::springs() const
   {
-    Elasticity::BoundaryLoads loads = gait_loads.loads(gait);
+    Elasticity::BoundaryLoads loads = gait_loads.springs();
     Tensor<2, 3>              axial_spring;
     axial_spring[2][2] =
       parameters.axial_stabilisation_spring / gait_loads.inferior_area();
-    const auto id        = Mesh::BoundaryIds::tibia_inferior;
-    loads.springs[id]    = axial_spring;
-    const auto springs   = loads.spring_fields.at(id);
-    const auto tractions = loads.traction_fields.at(id);
-    const auto restraint = gait_loads.restraint_traction(pose.restraint_force,
-                                                         pose.restraint_torque);
-    const Tensor<1, 3> translation = pose.translation;
-    loads.traction_fields[id]      = [=](const Point<3> &x) {
-      return tractions(x) - springs(x) * translation + restraint(x);
-    };
+    loads.springs[Mesh::BoundaryIds::tibia_inferior] = axial_spring;
     return loads;
+  }
+
+  // The restraint springs act on pose plus displacement: the pose part,
+  // -S(x) pose, is a traction.
+  std::vector<Elasticity::BoundaryLoads>
+  TibiaPose::load_basis() const
+  {
+    std::vector<Elasticity::BoundaryLoads> basis = gait_loads.traction_basis();
+    const auto id     = Mesh::BoundaryIds::tibia_inferior;
+    const auto spring = gait_loads.springs().spring_fields.at(id);
+    for (unsigned int d = 0; d < 3; ++d)
+      {
+        Elasticity::BoundaryLoads pose;
+        pose.traction_fields[id] = [spring, d](const Point<3> &x) {
+          return Tensor<1, 3>(-spring(x)[d]);
+        };
+        basis.push_back(pose);
+      }
+    return basis;
+  }
+
+  std::vector<double>
+  TibiaPose::load_coefficients(const GaitState &gait,
+                               const PoseState &pose) const
+  {
+    std::vector<double> c = gait_loads.resultants(gait);
+    c[1] += pose.restraint_force;
+    c[2] += pose.restraint_torque;
+    for (unsigned int d = 0; d < 3; ++d)
+      c.push_back(pose.translation[d]);
+    return c;
+  }
+
+  Elasticity::BoundaryLoads
+  TibiaPose::loads(const GaitState &gait, const PoseState &pose) const
+  {
+    return Elasticity::linear_combination(load_basis(),
+                                          load_coefficients(gait, pose),
+                                          springs());
   }
 
   // The rigid part of the tibia's displacement, measured on its inferior

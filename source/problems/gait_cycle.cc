@@ -98,12 +98,13 @@ namespace TKR::Problems
                                        model.timer);
     solver->setup(model.geometry.stiffness_mapping(),
                   dirichlet,
-                  tibia_pose->loads(waveform->at(0.), Gait::PoseState()));
+                  tibia_pose->springs());
     for (const auto &functional : tibia_pose->motion_functionals())
       {
         model.elasticity.assemble_rhs(model.mapping(), dirichlet, functional);
         solver->add_observation(model.elasticity.get_system_rhs());
       }
+    solver->set_load_basis(model.mapping(), tibia_pose->load_basis());
     if (!first)
       return;
     model.pcout << "Contact solver: " << solver->description();
@@ -183,7 +184,7 @@ namespace TKR::Problems
       ++n_solves;
       statistics =
         solver->solve(model.mapping(),
-                      tibia_pose->loads(gait, pose),
+                      tibia_pose->load_coefficients(gait, pose),
                       parameters.contact_solver.initial_contact_distance,
                       state);
       newton_iterations += statistics.newton_iterations;

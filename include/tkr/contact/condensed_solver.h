@@ -8,6 +8,7 @@
 #include <tkr/elasticity/direct_solver.h>
 #include <tkr/mortar/mortar_operator.h>
 
+#include <array>
 #include <vector>
 
 namespace TKR::Contact
@@ -25,13 +26,18 @@ namespace TKR::Contact
    * matrix W = B K^{-1} B^T. A Newton step of the active set A solves the
    * dense system W_AA lambda_A = -g_0,A; the update of the set is the same
    * as ActiveSetSolver's (ActiveSetUpdate), so both solve the same
-   * discrete problem. K^{-1} is applied through one sparse factorisation
-   * (DirectSolver); the columns that W needs, K^{-1} of the slave part of
-   * B_i^T for every active slave node i and of unit loads in x, y, z at
-   * every master node coupled to one, are computed when first needed and
-   * kept for every later solve. So a gait cycle costs one factorisation, a
-   * few thousand back substitutions and small dense solves instead of an
-   * AMG-CG solve per Newton iteration.
+   * discrete problem.
+   *
+   * K^{-1} is applied through one sparse Cholesky factorisation
+   * (DirectSolver). The columns that W needs, K^{-1} of unit loads in x, y
+   * and z at every surface node that an active node's row of B touches,
+   * are computed in batches when first needed and kept until the stiffness
+   * changes: they do not depend on the geometry of the coupling, so they
+   * serve every step, pose update and worn geometry. With a load basis
+   * (set_load_basis()) u_0 is a combination of stored solutions too, and a
+   * contact solve costs no back substitution at all. The Newton iteration
+   * works on the surface values that the rows of covered nodes reference
+   * (the contact zone), not on the whole surface.
    *
    * Assumes that K does not couple the two bodies (true: they touch only
    * through the contact constraints); a column that does is refused.
@@ -51,16 +57,25 @@ namespace TKR::Contact
           const dealii::AffineConstraints<double> &dirichlet,
           const Elasticity::BoundaryLoads         &loads) override;
 
-    /**
-     * Solve on the current coupling; the displacement is computed on the
-     * contact surfaces and for the observations only (compute_solution()
-     * gives the full one).
-     */
+    /** Solve for @p loads: one back substitution for u_0. */
     ContactStatistics
     solve(const dealii::Mapping<3>        &mapping,
           const Elasticity::BoundaryLoads &loads,
           const double                     initial_distance,
           ContactState                    &state) override;
+
+    /** K^{-1} of every basis load, kept until the stiffness changes. */
+    void
+    set_load_basis(
+      const dealii::Mapping<3>                     &mapping,
+      const std::vector<Elasticity::BoundaryLoads> &basis) override;
+
+    /** Solve for a combination of the load basis: no back substitution. */
+    ContactStatistics
+    solve(const dealii::Mapping<3>  &mapping,
+          const std::vector<double> &coefficients,
+          const double               initial_distance,
+          ContactState              &state) override;
 
     /** Also forgets the stored columns (they hold the observations). */
     unsigned int
@@ -94,7 +109,11 @@ namespace TKR::Contact
     }
 
   private:
-    /** A stored column: its values at the surface DoFs and observations. */
+    /**
+     * A solution K^{-1} b: its values at the surface DoFs of its own body
+     * (the slave's or the master's; the other body's are zero) or of both
+     * (load basis), and the observations.
+     */
     struct Column
     {
       std::vector<double> surface;
@@ -105,21 +124,19 @@ namespace TKR::Contact
     void
     clear_columns();
 
-    /**
-     * Compute the missing columns: of the slave part of B_i^T for the
-     * slave nodes @p slave, of unit loads at the master nodes @p master.
-     */
+    /** Compute the columns of the surface nodes @p nodes (x, y, z each). */
     void
-    compute_columns(const Mortar::MortarOperator    &B,
-                    const std::vector<unsigned int> &slave,
-                    const std::vector<unsigned int> &master);
+    compute_columns(const std::vector<unsigned int> &nodes);
 
     /**
-     * z_i = K^{-1} B_i^T (surface values, then observations) from the
-     * stored columns.
+     * The active-set iteration on the contact zone for the surface
+     * displacement @p u0 (all surface values) and its observations.
      */
-    Column
-    compliance(const Mortar::MortarOperator &B, const unsigned int i) const;
+    ContactStatistics
+    iterate(const std::vector<double> &u0,
+            const std::vector<double> &u0_observations,
+            const double               initial_distance,
+            ContactState              &state);
 
     /**
      * Values of the columns of @p X at the surface DoFs, on all ranks;
@@ -148,16 +165,28 @@ namespace TKR::Contact
     std::vector<dealii::types::global_dof_index> surface_dofs;
     unsigned int                                 n_slave_values  = 0;
     unsigned int                                 n_master_values = 0;
-    /** Per slave node: the column of the slave part of B_i^T, if stored. */
-    std::vector<Column> slave_columns;
-    /** The load (slave part of B_i^T, 3 values) each was computed for. */
-    std::vector<dealii::Tensor<1, 3>> slave_column_loads;
-    /** Per master node: the columns of unit loads in x, y, z. */
-    std::vector<std::array<Column, 3>> master_columns;
+    /**
+     * Per surface node (slave nodes, then master nodes): the columns of
+     * unit loads in x, y, z, on its own body's surface values (empty until
+     * needed).
+     */
+    std::vector<std::array<Column, 3>> node_columns;
     unsigned int                       n_stored_columns = 0;
 
-    /** Right-hand side and contact state of the last solve. */
+    /**
+     * The load basis: its right-hand sides (with the Dirichlet part in the
+     * last one) and their solutions on both surfaces.
+     */
+    std::vector<dealii::TrilinosWrappers::MPI::Vector> basis_rhs;
+    std::vector<Column>                                basis_columns;
+    double                                             basis_residual = 0;
+
+    /**
+     * Right-hand side (or basis coefficients, if last_rhs is empty) and
+     * contact state of the last solve.
+     */
     dealii::TrilinosWrappers::MPI::Vector last_rhs;
+    std::vector<double>                   last_coefficients;
     ContactState                          last_state;
   };
 } // namespace TKR::Contact

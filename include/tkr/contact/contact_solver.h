@@ -73,6 +73,27 @@ namespace TKR::Contact
           ContactState                    &state) = 0;
 
     /**
+     * Declare that the tractions of later solves are linear combinations
+     * of those of @p basis (the springs stay those of setup()), and solve
+     * with solve(mapping, coefficients, ...). The condensed solver keeps
+     * K^{-1} of every basis load, so that such a solve needs no back
+     * substitution; the others assemble the combination.
+     */
+    virtual void
+    set_load_basis(const dealii::Mapping<3>                     &mapping,
+                   const std::vector<Elasticity::BoundaryLoads> &basis);
+
+    /**
+     * Solve for the tractions sum_i @p coefficients[i] basis[i] of
+     * set_load_basis() and the springs of setup(); otherwise as solve().
+     */
+    virtual ContactStatistics
+    solve(const dealii::Mapping<3>  &mapping,
+          const std::vector<double> &coefficients,
+          const double               initial_distance,
+          ContactState              &state);
+
+    /**
      * Put the full displacement of the last solve into the
      * LinearElasticity object (the condensed solver computes only the
      * contact surfaces and the observations in solve()).
@@ -120,6 +141,9 @@ namespace TKR::Contact
     const dealii::ConditionalOStream  pcout;
     dealii::TimerOutput              &timer;
     dealii::AffineConstraints<double> dirichlet;
+    /** The springs of setup() and the load basis of set_load_basis(). */
+    Elasticity::BoundaryLoads              springs;
+    std::vector<Elasticity::BoundaryLoads> load_basis;
 
     /** Weights of the observed functionals and their last values. */
     std::vector<dealii::TrilinosWrappers::MPI::Vector> observation_weights;

@@ -77,6 +77,16 @@ namespace TKR::Elasticity
            const dealii::Point<3>          &x) const;
   };
 
+  /**
+   * The loads with the tractions sum_i c_i of the tractions of
+   * @p basis[i] (uniform and field tractions of every boundary part) and
+   * the springs of @p springs: loads that are linear in a few parameters.
+   */
+  BoundaryLoads
+  linear_combination(const std::vector<BoundaryLoads> &basis,
+                     const std::vector<double>        &coefficients,
+                     const BoundaryLoads              &springs);
+
   /** What a linear solve did. */
   struct SolverStatistics
   {

@@ -68,6 +68,26 @@ namespace TKR::Gait
     loads(const GaitState &state) const;
 
     /**
+     * The tractions on `tibia_inferior` of a unit axial force (N, along +z,
+     * with its medial offset), a unit AP force (N, along +y) and a unit
+     * torque about +z (N mm): every traction of the gait and of the
+     * restraints is a combination of these three.
+     */
+    std::vector<Elasticity::BoundaryLoads>
+    traction_basis() const;
+
+    /**
+     * The coefficients of the gait's tractions in @p state on
+     * traction_basis(): axial force, AP force (N), torque about +z (N mm).
+     */
+    std::vector<double>
+    resultants(const GaitState &state) const;
+
+    /** The restraint springs on `tibia_inferior` (no tractions). */
+    Elasticity::BoundaryLoads
+    springs() const;
+
+    /**
      * The two-rate restraint law's force beyond its inner, linear rate
      * (which the springs of loads() carry): the AP force (N, along +y) on
      * the tibia at an AP translation @p d (mm), zero within the AP spring

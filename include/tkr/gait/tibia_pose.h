@@ -95,10 +95,29 @@ namespace TKR::Gait
      * Loads of a step on the tibia in @p pose: the gait's tractions, the
      * restraint springs acting on pose plus displacement (the pose part is
      * a traction), the restraints' excess force and torque, and the axial
-     * stabilisation spring. The springs are the same in every step.
+     * stabilisation spring. The springs are the same in every step
+     * (springs()); the tractions are linear_combination() of load_basis()
+     * with load_coefficients().
      */
     Elasticity::BoundaryLoads
     loads(const GaitState &gait, const PoseState &pose) const;
+
+    /** The springs of every step's loads() (no tractions). */
+    Elasticity::BoundaryLoads
+    springs() const;
+
+    /**
+     * Six tractions of which every step's are a combination: a unit axial
+     * force, AP force and torque about z (GaitLoads::traction_basis()),
+     * and the spring tractions -S(x) e_d of a unit pose translation in x,
+     * y, z.
+     */
+    std::vector<Elasticity::BoundaryLoads>
+    load_basis() const;
+
+    /** The coefficients of the tractions of loads() on load_basis(). */
+    std::vector<double>
+    load_coefficients(const GaitState &gait, const PoseState &pose) const;
 
     /**
      * The inferior motion as four linear functionals of the displacement
