@@ -21,12 +21,16 @@ namespace TKR::Gait
 
   // The simulator holds the insert in a tray that translates (x, y, z),
   // rotates about z (IE) and ab/adducts (about y), but does not tilt in the
-  // sagittal plane. The inferior surface (flat, z = z_A) then moves as
-  //   u = u_A + theta_z e_z x (x - x_A) + theta_y e_y x (x - x_A),
-  // with theta_z = -(u_Bx - u_Ax)/(y_B - y_A) and
-  // theta_y = -(u_Cz - u_Az)/(x_C - x_A) from three anchor nodes: A near the
-  // centroid, B far from it in y, C far from it in x. Every other node of
-  // the surface gets three constraint lines on these five DoFs.
+  // sagittal plane. A node at d = x - x_A from the anchor A then moves as
+  //   u = u_A + theta_z e_z x d + theta_y e_y x d,
+  // u_x = u_Ax - theta_z d_y + theta_y d_z, u_y = u_Ay + theta_z d_x,
+  // u_z = u_Az - theta_y d_x, with the two angles read from two more
+  // anchors: C far from A in x gives theta_y = -(u_Cz - u_Az) / dx_C, B
+  // far from A in y gives theta_z = (u_Ax - u_Bx + theta_y dz_B) / dy_B.
+  // Every other node gets three constraint lines on these five DoFs, at
+  // its own position (d_z is not assumed zero: real inserts' backs are not
+  // exactly planar). Only the flatness is checked: the distances of the
+  // nodes from the least-squares plane z = a + b x + c y.
   unsigned int
   TibiaPose::add_tray_constraints(const DoFHandler<3>       &dof_handler,
                                   AffineConstraints<double> &constraints) const
@@ -43,7 +47,9 @@ namespace TKR::Gait
                 dofs[c] = cell->face(f)->vertex_dof_index(v, c);
               nodes[cell->face(f)->vertex_index(v)] = dofs;
             }
-    const auto    &vertices = dof_handler.get_triangulation().get_vertices();
+    const auto &vertices = dof_handler.get_triangulation().get_vertices();
+    check_tray_flatness(nodes, vertices);
+
     const Point<3> centroid = gait_loads.inferior_centroid();
     unsigned int   A        = nodes.begin()->first;
     for (const auto &[v, dofs] : nodes)
@@ -59,40 +65,100 @@ namespace TKR::Gait
             std::abs(vertices[C][0] - vertices[A][0]))
           C = v;
       }
-    const Point<3> &a    = vertices[A];
-    const double    dy_B = vertices[B][1] - a[1], dx_C = vertices[C][0] - a[0];
-    for (const auto &[v, dofs] : nodes)
-      AssertThrow(std::abs(vertices[v][2] - a[2]) <
-                    1e-6 * (std::abs(dy_B) + std::abs(dx_C)),
-                  ExcInputError("Gait/Tibial tray = rigid needs a flat "
-                                "tibia_inferior surface (z = const)."));
-    const auto &dA = nodes[A], &dB = nodes[B], &dC = nodes[C];
+    const Point<3>    &a  = vertices[A];
+    const Tensor<1, 3> dB = vertices[B] - a, dC = vertices[C] - a;
+    const auto        &uA = nodes[A], &uB = nodes[B], &uC = nodes[C];
+    const auto         add = [&](const types::global_dof_index line,
+                         const types::global_dof_index dof,
+                         const double                  value) {
+      if (value != 0.)
+        constraints.add_entry(line, dof, value);
+    };
     for (const auto &[v, dofs] : nodes)
       {
         if (v == A)
           continue;
-        const double dx = vertices[v][0] - a[0], dy = vertices[v][1] - a[1];
-        // u_x = u_Ax + (u_Bx - u_Ax) dy / dy_B
+        const Tensor<1, 3> d = vertices[v] - a;
+        // theta_y d = (u_Az - u_Cz) d / dx_C; theta_z d = (u_Ax - u_Bx) d /
+        // dy_B + (u_Az - u_Cz) (dz_B / dy_B) d / dx_C.
+        const auto theta_y         = [&](const double d) { return d / dC[0]; };
+        const auto theta_z_by_tilt = [&](const double d) {
+          return dB[2] / dB[1] * d / dC[0];
+        };
+        // u_x = u_Ax - theta_z d_y + theta_y d_z (B's u_x is free)
         if (v != B)
           {
             constraints.add_line(dofs[0]);
-            constraints.add_entry(dofs[0], dA[0], 1. - dy / dy_B);
-            constraints.add_entry(dofs[0], dB[0], dy / dy_B);
+            add(dofs[0], uA[0], 1. - d[1] / dB[1]);
+            add(dofs[0], uB[0], d[1] / dB[1]);
+            add(dofs[0], uA[2], -theta_z_by_tilt(d[1]) + theta_y(d[2]));
+            add(dofs[0], uC[2], theta_z_by_tilt(d[1]) - theta_y(d[2]));
           }
-        // u_y = u_Ay - (u_Bx - u_Ax) dx / dy_B
+        // u_y = u_Ay + theta_z d_x
         constraints.add_line(dofs[1]);
-        constraints.add_entry(dofs[1], dA[1], 1.);
-        constraints.add_entry(dofs[1], dA[0], dx / dy_B);
-        constraints.add_entry(dofs[1], dB[0], -dx / dy_B);
-        // u_z = u_Az + (u_Cz - u_Az) dx / dx_C
+        add(dofs[1], uA[1], 1.);
+        add(dofs[1], uA[0], d[0] / dB[1]);
+        add(dofs[1], uB[0], -d[0] / dB[1]);
+        add(dofs[1], uA[2], theta_z_by_tilt(d[0]));
+        add(dofs[1], uC[2], -theta_z_by_tilt(d[0]));
+        // u_z = u_Az - theta_y d_x (C's u_z is free)
         if (v != C)
           {
             constraints.add_line(dofs[2]);
-            constraints.add_entry(dofs[2], dA[2], 1. - dx / dx_C);
-            constraints.add_entry(dofs[2], dC[2], dx / dx_C);
+            add(dofs[2], uA[2], 1. - theta_y(d[0]));
+            add(dofs[2], uC[2], theta_y(d[0]));
           }
       }
     return nodes.size();
+  }
+
+  // The least-squares plane z = a + b x + c y through the inferior nodes;
+  // farther from it than the tolerance (a fraction of the insert's width)
+  // the tray cannot be rigid.
+  void
+  TibiaPose::check_tray_flatness(
+    const std::map<unsigned int, std::array<types::global_dof_index, 3>> &nodes,
+    const std::vector<Point<3>> &vertices) const
+  {
+    Tensor<2, 3> normal_matrix;
+    Tensor<1, 3> rhs;
+    for (const auto &node : nodes)
+      {
+        const Point<3>    &x = vertices[node.first];
+        const Tensor<1, 3> phi({1., x[0], x[1]});
+        normal_matrix += outer_product(phi, phi);
+        rhs += x[2] * phi;
+      }
+    const Tensor<1, 3> plane     = invert(normal_matrix) * rhs;
+    double             deviation = 0;
+    Point<3>           farthest;
+    for (const auto &node : nodes)
+      {
+        const Point<3> &x = vertices[node.first];
+        const double    distance =
+          std::abs(x[2] - plane[0] - plane[1] * x[0] - plane[2] * x[1]) /
+          std::sqrt(1. + plane[1] * plane[1] + plane[2] * plane[2]);
+        if (distance > deviation)
+          {
+            deviation = distance;
+            farthest  = x;
+          }
+      }
+    const double width     = gait_loads.inferior_surface().width;
+    const double tolerance = parameters.tray_flatness_tolerance * width;
+    AssertThrow(
+      deviation <= tolerance,
+      ExcInputError(
+        "Gait/Tibial tray = rigid needs a nearly flat "
+        "tibia_inferior surface, but its node at (" +
+        format_number(farthest[0]) + ", " + format_number(farthest[1]) + ", " +
+        format_number(farthest[2]) + ") lies " + format_number(deviation) +
+        " mm from the least-squares plane of the surface, more "
+        "than the Tray flatness tolerance (" +
+        format_number(parameters.tray_flatness_tolerance) + " of the " +
+        format_number(width) + " mm width = " + format_number(tolerance) +
+        " mm). Check the mesh's tibia_inferior group, raise the "
+        "tolerance or set Tibial tray = free."));
   }
 
   // The axial stabilisation spring acts on the displacement relative to the

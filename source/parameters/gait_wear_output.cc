@@ -103,9 +103,19 @@ namespace TKR::Parameters
                         "rigid: the inferior surface moves like the "
                         "simulator's tray: it translates, rotates about z "
                         "(IE) and ab/adducts, but does not tilt in the "
-                        "sagittal plane (needs a flat inferior surface). "
-                        "free: no constraint (the insert may tilt under the "
-                        "AP force).");
+                        "sagittal plane (needs a nearly flat inferior "
+                        "surface, see Tray flatness tolerance). free: no "
+                        "constraint (the insert may tilt under the AP "
+                        "force).");
+      prm.declare_entry(
+        "Tray flatness tolerance",
+        "1e-3",
+        Patterns::Double(0),
+        "With Tibial tray = rigid: how far the tibia_inferior nodes may lie "
+        "from their least-squares plane, as a fraction of the insert's "
+        "medial-lateral width (1e-3: 0.07 mm on a 70 mm insert; real "
+        "inserts' backs are not exactly planar). Each node is tied to the "
+        "tray at its own position; a surface farther from flat is refused.");
       prm.declare_entry("Step groups",
                         "0",
                         Patterns::Integer(0),
@@ -161,6 +171,7 @@ namespace TKR::Parameters
       ml_spring_stiffness        = prm.get_double("ML spring stiffness");
       step_groups                = prm.get_integer("Step groups");
       rigid_tray                 = (prm.get("Tibial tray") == "rigid");
+      tray_flatness_tolerance    = prm.get_double("Tray flatness tolerance");
       axial_stabilisation_spring = prm.get_double("Axial stabilisation spring");
       pose_tolerance             = prm.get_double("Pose tolerance");
       ap_force_sign              = prm.get_double("AP force sign");

@@ -13,6 +13,8 @@
 #include <tkr/output/solution_output.h>
 #include <tkr/problems/contact_problem.h>
 
+#include <sstream>
+
 namespace TKR::Problems
 {
   using namespace dealii;
@@ -120,7 +122,11 @@ namespace TKR::Problems
                 << cs.n_master_faces << " master faces, "
                 << cs.n_overlapping_pairs << " overlapping face pairs, "
                 << cs.n_covered_nodes << " of " << model.slave->nodes().size()
-                << " slave nodes face the femur" << std::endl;
+                << " slave nodes face the femur" << std::endl
+                << "  covered area (tibia_contact facing femur_contact): "
+                << cs.covered_area << " of " << cs.slave_area << " mm^2"
+                << std::endl;
+    model.summary.set("covered_area_mm2", cs.covered_area);
     check_initial_gaps();
 
     solver = Contact::create_contact_solver(parameters,
@@ -141,17 +147,17 @@ namespace TKR::Problems
     const auto [min_gap, closest] = Contact::smallest_gap(*model.coupling);
     const bool loaded             = parameters.static_contact.tibia_inferior ==
                         Parameters::TibiaSupport::loaded;
-    AssertThrow(model.coupling->statistics().n_covered_nodes > 0 || !loaded,
+    const auto &cs = model.coupling->statistics();
+    AssertThrow(cs.n_covered_nodes > 0,
                 ExcInputError(
-                  "With Tibia inferior = loaded the tibia is held only by "
-                  "contact, but no part of tibia_contact faces femur_contact "
-                  "within the search distance (" +
+                  "No part of tibia_contact faces femur_contact within the "
+                  "search distance (" +
                   Utilities::to_string(
                     parameters.contact_solver.search_distance) +
-                  " mm): the bodies do not touch and the problem is "
-                  "singular."));
-    if (model.coupling->statistics().n_covered_nodes == 0)
-      return;
+                  " mm): covered area 0 of " + format_number(cs.slave_area) +
+                  " mm^2, so no contact can be computed. Check that the "
+                  "bodies are placed against each other and that the "
+                  "contact groups are the articular surfaces."));
     const Point<3> &x =
       model.geometry.vertex_positions()[model.slave->nodes()[closest].vertex];
     const std::string where = "(" + format_number(x[0]) + ", " +
@@ -190,7 +196,40 @@ namespace TKR::Problems
                     model.parameters.contact_solver.initial_contact_distance,
                     state);
     solver->compute_solution();
+    check_contact_found(statistics);
     return statistics;
+  }
+
+  // No silent zero: a clamped tibia under a femur displacement that closes
+  // the smallest gap must touch it. Without any active node the result is
+  // an error if the displacement closes the gap, a warning with the
+  // numbers if it does not (then zero contact is the right answer).
+  void
+  ContactProblem::check_contact_found(
+    const Contact::ContactStatistics &statistics) const
+  {
+    if (statistics.n_active > 0)
+      return;
+    const auto [min_gap, closest] = Contact::smallest_gap(*model.coupling);
+    const Tensor<1, 3> &d = model.parameters.static_contact.femur_displacement;
+    const double closure = -(d * model.coupling->slave_nodes()[closest].normal);
+    const Point<3> &x =
+      model.geometry.vertex_positions()[model.slave->nodes()[closest].vertex];
+    std::ostringstream message;
+    message << "The femur displacement (" << d[0] << ", " << d[1] << ", "
+            << d[2] << ") mm closes the smallest initial gap, "
+            << format_number(min_gap) << " mm at the tibia node ("
+            << format_number(x[0]) << ", " << format_number(x[1]) << ", "
+            << format_number(x[2]) << "), by " << format_number(closure)
+            << " mm, and no tibia node is in contact";
+    AssertThrow(closure <= min_gap,
+                ExcInputError(
+                  message.str() +
+                  ": the contact was not resolved (covered area " +
+                  format_number(model.coupling->statistics().covered_area) +
+                  " mm^2). This is not a result."));
+    model.pcout << "Warning: no contact. " << message.str()
+                << ": the bodies stay apart." << std::endl;
   }
 
   // Solve the same discrete problem with Ipopt and compare: displacements

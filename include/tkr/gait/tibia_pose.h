@@ -17,6 +17,8 @@
 
 #include <array>
 #include <functional>
+#include <map>
+#include <vector>
 
 namespace TKR::Gait
 {
@@ -152,6 +154,13 @@ namespace TKR::Gait
     static constexpr unsigned int max_iterations = 40;
 
   private:
+    /** Refuse a tibia_inferior surface that is not flat enough. */
+    void
+    check_tray_flatness(
+      const std::map<unsigned int,
+                     std::array<dealii::types::global_dof_index, 3>> &nodes,
+      const std::vector<dealii::Point<3>> &vertices) const;
+
     const Parameters::Gait parameters;
     const GaitLoads       &gait_loads;
   };

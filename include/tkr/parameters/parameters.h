@@ -167,6 +167,11 @@ namespace TKR::Parameters
     double pose_tolerance;
     /** The insert sits in a rigid tray that cannot tilt sagittally. */
     bool rigid_tray;
+    /**
+     * Largest distance of a tibia_inferior node from the surface's
+     * least-squares plane, as a fraction of the insert's width.
+     */
+    double tray_flatness_tolerance;
     /** MPI groups that share the steps of a cycle (0: one per rank). */
     unsigned int step_groups;
 

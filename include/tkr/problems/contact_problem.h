@@ -54,6 +54,8 @@ namespace TKR::Problems
     Contact::ContactStatistics
     solve();
     void
+    check_contact_found(const Contact::ContactStatistics &statistics) const;
+    void
     report(const Contact::ContactStatistics &statistics);
     void
     compare_with_hertz(const Contact::ContactStatistics &statistics);
