@@ -495,7 +495,16 @@ namespace TKR::Contact
   {
     TimerOutput::Scope            scope(timer, "direct solve");
     const Mortar::MortarOperator  B(coupling);
-    TrilinosWrappers::MPI::Vector f = last_rhs;
+    TrilinosWrappers::MPI::Vector f;
+    if (last_rhs.size() > 0)
+      f = last_rhs;
+    else
+      {
+        // The combination of the load basis of the last solve.
+        f = basis_rhs.back();
+        for (unsigned int b = 0; b < last_coefficients.size(); ++b)
+          f.add(last_coefficients[b], basis_rhs[b]);
+      }
     for (unsigned int j = 0; j < B.n_rows(); ++j)
       if (last_state.active[j])
         for (auto e = B.begin(j); e != B.end(j); ++e)

@@ -206,7 +206,7 @@ namespace TKR::Parameters
                         "contact surface counts towards the wear area.");
       prm.declare_entry(
         "Stiffness update interval",
-        "1",
+        "10",
         Patterns::Integer(0),
         "Re-assemble and re-factorise the stiffness on the worn geometry "
         "every this many extrapolation blocks (1: every block; 0: never, the "
