@@ -186,10 +186,10 @@ def write(name, path):
     return bodies
 
 
-def make_implant():
+def make_implant(path=None):
     import mesh_implant
     cad = os.path.join(MESHES, "tkr", "cad")
-    path = os.path.join(MESHES, "tkr", "tkr-a-implant.msh")
+    path = path or os.path.join(MESHES, "tkr", "tkr-a-implant.msh")
     mesh_implant.main(["--femur", os.path.join(cad, "tkr-a-femur.step"),
                        "--insert", os.path.join(cad, "tkr-a-insert.step"), "-o", path])
 
