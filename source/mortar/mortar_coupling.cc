@@ -12,6 +12,7 @@
 #include <tkr/mortar/surface_geometry.h>
 
 #include <algorithm>
+#include <optional>
 
 namespace TKR::Mortar
 {
@@ -262,8 +263,75 @@ namespace TKR::Mortar
       }
   }
 
+  /**
+   * A slave face in its auxiliary plane: the plane, the face's projection
+   * and its outline (counter-clockwise), its area and box in the plane, and
+   * the range of its vertices' heights above the plane.
+   */
+  struct MortarCoupling::SlaveProjection
+  {
+    AuxiliaryPlane plane;
+    PlaneQuad      quad;
+    Polygon        outline;
+    double         area, min_height, max_height;
+    BoundingBox<2> box;
+  };
+
+  // The plane: normal to the averaged nodal normal, or to the face's own
+  // normal where that is more than 60 degrees away or where the face's
+  // projection would not be convex. False if even then it is not.
+  bool
+  MortarCoupling::project_slave_face(const unsigned int              e,
+                                     const std::vector<Point<3>>    &positions,
+                                     std::optional<SlaveProjection> &result)
+  {
+    const BilinearQuad slave_quad{slave.face_vertices(e, positions)};
+    const Point2       centre(0.5, 0.5);
+    Tensor<1, 3>       face_normal =
+      slave.orientation(e, positions) * slave_quad.area_normal(centre);
+    face_normal /= face_normal.norm();
+    Tensor<1, 3> averaged;
+    for (const unsigned int j : slave.faces()[e].nodes)
+      averaged += nodes[j].normal;
+    averaged /= averaged.norm();
+
+    for (const Tensor<1, 3> &n0 : {averaged, face_normal})
+      {
+        if (!(n0 * face_normal > 0.5))
+          continue;
+        const AuxiliaryPlane plane(slave_quad.point(centre), n0);
+        PlaneQuad            quad;
+        for (unsigned int v = 0; v < 4; ++v)
+          quad.vertices[v] = plane.coordinates(slave_quad.vertices[v]);
+        const int orientation = quad.convex_orientation();
+        if (orientation == 0)
+          continue;
+        Polygon outline = quad.outline();
+        if (orientation < 0)
+          std::reverse(outline.begin(), outline.end());
+        double min_height = 1e300, max_height = -1e300;
+        for (const auto &x : slave_quad.vertices)
+          {
+            min_height = std::min(min_height, plane.height(x));
+            max_height = std::max(max_height, plane.height(x));
+          }
+        const BoundingBox<2> box(
+          std::vector<Point2>(outline.begin(), outline.end()));
+        const double area = signed_area(outline);
+        result.emplace(SlaveProjection{plane,
+                                       quad,
+                                       outline,
+                                       area,
+                                       min_height,
+                                       max_height,
+                                       box});
+        return true;
+      }
+    return false;
+  }
+
   // The integration cells of slave face e (see the class documentation):
-  // auxiliary plane, candidates, cheap rejections, clipping, Gauss points.
+  // auxiliary plane, candidates, and a cell for each candidate that passes.
   void
   MortarCoupling::make_cells(const unsigned int           e,
                              const std::vector<Point<3>> &positions,
@@ -271,129 +339,32 @@ namespace TKR::Mortar
                              const double                 search_distance,
                              Accumulator                 &accumulator)
   {
-    const auto        &face_nodes = slave.faces()[e].nodes;
-    const BilinearQuad slave_quad{slave.face_vertices(e, positions)};
-    const Point2       centre(0.5, 0.5);
-    auto              &face = accumulator.faces[e];
+    auto &face      = accumulator.faces[e];
     face.first_cell = face.end_cell = accumulator.cells.size();
-
-    // The plane: normal to the averaged nodal normal, or to the face's own
-    // normal where that is more than 60 degrees away or where the face's
-    // projection would not be convex.
-    Tensor<1, 3> face_normal =
-      slave.orientation(e, positions) * slave_quad.area_normal(centre);
-    face_normal /= face_normal.norm();
-    Tensor<1, 3> n0;
-    for (const unsigned int j : face_nodes)
-      n0 += nodes[j].normal;
-    n0 /= n0.norm();
-    if (!(n0 * face_normal > 0.5))
-      n0 = face_normal;
-    AuxiliaryPlane plane(slave_quad.point(centre), n0);
-    PlaneQuad      slave_plane;
-    for (unsigned int v = 0; v < 4; ++v)
-      slave_plane.vertices[v] = plane.coordinates(slave_quad.vertices[v]);
-    if (slave_plane.convex_orientation() == 0 && n0 != face_normal)
-      {
-        n0    = face_normal;
-        plane = AuxiliaryPlane(slave_quad.point(centre), n0);
-        for (unsigned int v = 0; v < 4; ++v)
-          slave_plane.vertices[v] = plane.coordinates(slave_quad.vertices[v]);
-      }
-    if (slave_plane.convex_orientation() == 0)
+    std::optional<SlaveProjection> projection;
+    if (!project_slave_face(e, positions, projection))
       {
         ++stats.n_invalid_faces;
         return;
       }
-    face.n0               = n0;
-    Polygon slave_outline = slave_plane.outline();
-    if (signed_area(slave_outline) < 0)
-      std::reverse(slave_outline.begin(), slave_outline.end());
-    face.plane_area = signed_area(slave_outline);
-    face.exact      = plane_moments(slave_plane.determinant_coefficients());
-    const BoundingBox<2> slave_box(
-      std::vector<Point2>(slave_outline.begin(), slave_outline.end()));
-    double min_height = 1e300, max_height = -1e300;
-    for (const auto &x : slave_quad.vertices)
-      {
-        min_height = std::min(min_height, plane.height(x));
-        max_height = std::max(max_height, plane.height(x));
-      }
+    face.n0         = projection->plane.normal();
+    face.plane_area = projection->area;
+    face.exact = plane_moments(projection->quad.determinant_coefficients());
 
     find_candidates(master_faces.tree,
-                    slave_quad.vertices,
-                    n0,
+                    slave.face_vertices(e, positions),
+                    face.n0,
                     search_distance,
                     accumulator.candidates);
     stats.n_candidate_pairs += accumulator.candidates.size();
-
     for (const auto &candidate : accumulator.candidates)
-      {
-        const unsigned int  m           = candidate.second;
-        const BilinearQuad &master_quad = master_faces.quads[m];
-        if (!(master_faces.normals[m] * n0 < 0))
-          continue; // not facing the slave face
+      make_cell(e,
+                candidate.second,
+                *projection,
+                master_faces,
+                search_distance,
+                accumulator);
 
-        // Cheap bounds first: the gap between the faces along n0 lies
-        // between these (each face lies between its vertices' heights).
-        PlaneQuad master_plane;
-        double    min_beta = 1e300, max_beta = -1e300;
-        for (unsigned int v = 0; v < 4; ++v)
-          {
-            const double beta = plane.height(master_quad.vertices[v]);
-            min_beta          = std::min(min_beta, beta);
-            max_beta          = std::max(max_beta, beta);
-            master_plane.vertices[v] =
-              plane.coordinates(master_quad.vertices[v]);
-          }
-        if (min_beta - max_height > search_distance ||
-            max_beta - min_height < -search_distance)
-          continue;
-        const BoundingBox<2> master_box(
-          std::vector<Point2>(master_plane.vertices.begin(),
-                              master_plane.vertices.end()));
-        if (slave_box.get_neighbor_type(master_box) ==
-            NeighborType::not_neighbors)
-          continue;
-
-        const int orientation = master_plane.convex_orientation();
-        if (orientation == 0)
-          {
-            ++stats.n_rejected_pairs;
-            continue;
-          }
-        Polygon master_outline = master_plane.outline();
-        if (orientation < 0)
-          std::reverse(master_outline.begin(), master_outline.end());
-        const Polygon cell = clip_polygon(master_outline, slave_outline);
-        if (cell.empty() || signed_area(cell) <= 1e-12 * face.plane_area)
-          continue;
-
-        const unsigned int begin = accumulator.points.size();
-        if (!cell_quadrature.append_points(cell,
-                                           slave_plane,
-                                           master_plane,
-                                           accumulator.points))
-          {
-            ++stats.n_rejected_pairs;
-            continue;
-          }
-        const auto j_master = master_plane.determinant_coefficients();
-        accumulator.cells.push_back(
-          {e,
-           m,
-           begin,
-           static_cast<unsigned int>(accumulator.points.size()),
-           signed_area(cell),
-           std::abs(signed_area(master_outline)),
-           plane_moments(j_master)});
-        face.covered_plane_area += signed_area(cell);
-        // Does a node of the face project onto this master face?
-        const double tolerance = 1e-9 * std::sqrt(face.plane_area);
-        for (unsigned int v = 0; v < 4; ++v)
-          if (inside(master_outline, slave_plane.vertices[v], tolerance))
-            accumulator.projects[face_nodes[v]] = true;
-      }
     face.end_cell = accumulator.cells.size();
     if (face.end_cell == face.first_cell)
       return;
@@ -407,6 +378,84 @@ namespace TKR::Mortar
       ++stats.n_fully_covered_faces;
     else
       ++stats.n_partly_covered_faces;
+  }
+
+  // The cell of slave face e and master face m, if they face each other,
+  // lie within the search distance and overlap in the plane; cheap
+  // rejections first.
+  void
+  MortarCoupling::make_cell(const unsigned int     e,
+                            const unsigned int     m,
+                            const SlaveProjection &slave_face,
+                            const MasterGeometry  &master_faces,
+                            const double           search_distance,
+                            Accumulator           &accumulator)
+  {
+    const auto         &plane       = slave_face.plane;
+    const BilinearQuad &master_quad = master_faces.quads[m];
+    if (!(master_faces.normals[m] * plane.normal() < 0))
+      return; // not facing the slave face
+
+    // The gap between the faces along n0 lies between these bounds (each
+    // face lies between its vertices' heights).
+    PlaneQuad master_plane;
+    double    min_beta = 1e300, max_beta = -1e300;
+    for (unsigned int v = 0; v < 4; ++v)
+      {
+        const double beta        = plane.height(master_quad.vertices[v]);
+        min_beta                 = std::min(min_beta, beta);
+        max_beta                 = std::max(max_beta, beta);
+        master_plane.vertices[v] = plane.coordinates(master_quad.vertices[v]);
+      }
+    if (min_beta - slave_face.max_height > search_distance ||
+        max_beta - slave_face.min_height < -search_distance)
+      return;
+    const BoundingBox<2> master_box(
+      std::vector<Point2>(master_plane.vertices.begin(),
+                          master_plane.vertices.end()));
+    if (slave_face.box.get_neighbor_type(master_box) ==
+        NeighborType::not_neighbors)
+      return;
+
+    const int orientation = master_plane.convex_orientation();
+    if (orientation == 0)
+      {
+        ++stats.n_rejected_pairs;
+        return;
+      }
+    Polygon master_outline = master_plane.outline();
+    if (orientation < 0)
+      std::reverse(master_outline.begin(), master_outline.end());
+    const Polygon cell = clip_polygon(master_outline, slave_face.outline);
+    const double  area = cell.empty() ? 0. : signed_area(cell);
+    if (area <= 1e-12 * slave_face.area)
+      return;
+
+    const unsigned int begin = accumulator.points.size();
+    if (!cell_quadrature.append_points(cell,
+                                       slave_face.quad,
+                                       master_plane,
+                                       accumulator.points))
+      {
+        ++stats.n_rejected_pairs;
+        return;
+      }
+    accumulator.cells.push_back(
+      {e,
+       m,
+       begin,
+       static_cast<unsigned int>(accumulator.points.size()),
+       area,
+       std::abs(signed_area(master_outline)),
+       plane_moments(master_plane.determinant_coefficients())});
+    accumulator.faces[e].covered_plane_area += area;
+
+    // Does a node of the face project onto this master face?
+    const auto  &face_nodes = slave.faces()[e].nodes;
+    const double tolerance  = 1e-9 * std::sqrt(slave_face.area);
+    for (unsigned int v = 0; v < 4; ++v)
+      if (inside(master_outline, slave_face.quad.vertices[v], tolerance))
+        accumulator.projects[face_nodes[v]] = true;
   }
 
   // The fitted weights (CellQuadrature). The Gauss points of the cells

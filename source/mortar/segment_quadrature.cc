@@ -115,11 +115,23 @@ namespace TKR::Mortar
      */
     struct CellConditions
     {
-      unsigned int cell_unknown;
-      int          slave_unknown = -1, master_unknown = -1;
+      int cell_unknown = -1, slave_unknown = -1, master_unknown = -1;
     };
 
-    /** Unknown indices and values of the conditions at one point. */
+    /** The numbering of the conditions (the unknowns lambda). */
+    struct Conditions
+    {
+      std::vector<CellConditions> cells;
+      /** First unknown of each face (three each). */
+      std::vector<unsigned int> face_first;
+      unsigned int              n_unknowns = 0;
+      /** Whether some cell belongs to two faces. */
+      bool coupled = false;
+      /** The right-hand side b (cell areas, exact face integrals). */
+      std::vector<double> targets;
+    };
+
+    /** Unknowns and values of the conditions at one point. */
     unsigned int
     condition_values(const CellConditions        &conditions,
                      const CellPoint             &point,
@@ -144,14 +156,186 @@ namespace TKR::Mortar
           }
       return n;
     }
+
+    // Unknowns: the cells of some face (in the order of the faces' lists, so
+    // that the cells of a face have consecutive unknowns when no cell
+    // belongs to two faces), then three per face.
+    Conditions
+    number_conditions(const std::vector<double>      &cell_areas,
+                      const std::vector<FittingFace> &faces)
+    {
+      Conditions conditions;
+      conditions.cells.resize(cell_areas.size());
+      for (const auto &face : faces)
+        for (const unsigned int c : face.cells)
+          if (conditions.cells[c].cell_unknown < 0)
+            conditions.cells[c].cell_unknown = conditions.n_unknowns++;
+          else
+            conditions.coupled = true;
+      conditions.targets.resize(conditions.n_unknowns + 3 * faces.size());
+      for (unsigned int c = 0; c < cell_areas.size(); ++c)
+        if (conditions.cells[c].cell_unknown >= 0)
+          conditions.targets[conditions.cells[c].cell_unknown] = cell_areas[c];
+      for (const auto &face : faces)
+        {
+          const unsigned int first = conditions.n_unknowns;
+          conditions.face_first.push_back(first);
+          for (const unsigned int c : face.cells)
+            (face.master ? conditions.cells[c].master_unknown :
+                           conditions.cells[c].slave_unknown) = first;
+          for (unsigned int r = 0; r < 3; ++r)
+            conditions.targets[first + r] = face.integrals[r];
+          conditions.n_unknowns += 3;
+        }
+      return conditions;
+    }
+
+    /** Calls f(q, n, index, value) for every point q of a cell with
+     *  conditions. */
+    template <typename Function>
+    void
+    for_each_point(
+      const std::vector<CellPoint>                             &points,
+      const std::vector<std::pair<unsigned int, unsigned int>> &cell_ranges,
+      const Conditions                                         &conditions,
+      const Function                                           &f)
+    {
+      std::array<unsigned int, 7> index;
+      std::array<double, 7>       value;
+      for (unsigned int c = 0; c < cell_ranges.size(); ++c)
+        if (conditions.cells[c].cell_unknown >= 0)
+          for (unsigned int q = cell_ranges[c].first; q < cell_ranges[c].second;
+               ++q)
+            {
+              const unsigned int n =
+                condition_values(conditions.cells[c], points[q], index, value);
+              f(q, n, index, value);
+            }
+    }
+
+    /** b - C w for the present weights. */
+    std::vector<double>
+    residual(const std::vector<CellPoint>                             &points,
+             const std::vector<std::pair<unsigned int, unsigned int>> &ranges,
+             const Conditions &conditions)
+    {
+      std::vector<double> r = conditions.targets;
+      for_each_point(points,
+                     ranges,
+                     conditions,
+                     [&](const unsigned int                 q,
+                         const unsigned int                 n,
+                         const std::array<unsigned int, 7> &index,
+                         const std::array<double, 7>       &value) {
+                       for (unsigned int k = 0; k < n; ++k)
+                         r[index[k]] -= points[q].weight * value[k];
+                     });
+      return r;
+    }
+
+    /** lambda from one small dense system (C W C^T) per face, for faces
+     *  whose cells are disjoint. */
+    std::vector<double>
+    solve_per_face(
+      const std::vector<CellPoint>                             &points,
+      const std::vector<std::pair<unsigned int, unsigned int>> &ranges,
+      const std::vector<FittingFace>                           &faces,
+      const Conditions                                         &conditions,
+      const std::vector<double>                                &rhs)
+    {
+      std::vector<double>         lambda(conditions.n_unknowns, 0.);
+      std::array<unsigned int, 7> index;
+      std::array<double, 7>       value;
+      for (unsigned int f = 0; f < faces.size(); ++f)
+        {
+          // Local unknowns: the face's cells (consecutive), then its three.
+          const auto        &cells   = faces[f].cells;
+          const unsigned int n_local = cells.size() + 3;
+          const unsigned int first_cell =
+            conditions.cells[cells[0]].cell_unknown;
+          const unsigned int first_face = conditions.face_first[f];
+          const auto         local      = [&](const unsigned int i) {
+            return (i >= first_cell && i < first_cell + cells.size()) ?
+                                  i - first_cell :
+                                  i - first_face + cells.size();
+          };
+          FullMatrix<double> G(n_local, n_local);
+          Vector<double>     b(n_local), x(n_local);
+          for (const unsigned int c : cells)
+            for (unsigned int q = ranges[c].first; q < ranges[c].second; ++q)
+              {
+                const unsigned int n = condition_values(conditions.cells[c],
+                                                        points[q],
+                                                        index,
+                                                        value);
+                for (unsigned int k = 0; k < n; ++k)
+                  for (unsigned int l = 0; l < n; ++l)
+                    G(local(index[k]), local(index[l])) +=
+                      points[q].weight * value[k] * value[l];
+              }
+          for (unsigned int i = 0; i < cells.size(); ++i)
+            b(i) = rhs[first_cell + i];
+          for (unsigned int r = 0; r < 3; ++r)
+            b(cells.size() + r) = rhs[first_face + r];
+          G.gauss_jordan();
+          G.vmult(x, b);
+          for (unsigned int i = 0; i < cells.size(); ++i)
+            lambda[first_cell + i] = x(i);
+          for (unsigned int r = 0; r < 3; ++r)
+            lambda[first_face + r] = x(cells.size() + r);
+        }
+      return lambda;
+    }
+
+    /** lambda from one sparse system C W C^T (UMFPACK). */
+    std::vector<double>
+    solve_coupled(
+      const std::vector<CellPoint>                             &points,
+      const std::vector<std::pair<unsigned int, unsigned int>> &ranges,
+      const Conditions                                         &conditions,
+      const std::vector<double>                                &rhs)
+    {
+      const unsigned int     n = conditions.n_unknowns;
+      DynamicSparsityPattern dsp(n, n);
+      for_each_point(points,
+                     ranges,
+                     conditions,
+                     [&](const unsigned int,
+                         const unsigned int                 n_values,
+                         const std::array<unsigned int, 7> &index,
+                         const std::array<double, 7> &) {
+                       for (unsigned int k = 0; k < n_values; ++k)
+                         for (unsigned int l = 0; l < n_values; ++l)
+                           dsp.add(index[k], index[l]);
+                     });
+      SparsityPattern pattern;
+      pattern.copy_from(dsp);
+      SparseMatrix<double> G(pattern);
+      for_each_point(points,
+                     ranges,
+                     conditions,
+                     [&](const unsigned int                 q,
+                         const unsigned int                 n_values,
+                         const std::array<unsigned int, 7> &index,
+                         const std::array<double, 7>       &value) {
+                       for (unsigned int k = 0; k < n_values; ++k)
+                         for (unsigned int l = 0; l < n_values; ++l)
+                           G.add(index[k],
+                                 index[l],
+                                 points[q].weight * value[k] * value[l]);
+                     });
+      SparseDirectUMFPACK solver;
+      solver.initialize(G);
+      Vector<double> x(rhs.begin(), rhs.end());
+      solver.solve(x);
+      return std::vector<double>(x.begin(), x.end());
+    }
   } // namespace
 
   // The conditions: per cell, sum_q w_q = area (exact already, up to
   // round-off); per face, sum_q w_q phi_i(x_q) = integral_i (i = 1, 2, 3)
   // over the points of its cells. The matrix C W C^T is assembled point by
-  // point from the (at most seven) conditions a point enters, dense per
-  // face when the faces' cells are disjoint, else as one sparse matrix
-  // (UMFPACK).
+  // point from the (at most seven) conditions a point enters.
   double
   fit_weights(
     std::vector<CellPoint>                                   &points,
@@ -159,161 +343,37 @@ namespace TKR::Mortar
     const std::vector<double>                                &cell_areas,
     const std::vector<FittingFace>                           &faces)
   {
-    // Unknowns: the cells of some face, then three per face.
-    const unsigned int          n_cells = cell_ranges.size();
-    std::vector<CellConditions> conditions(n_cells);
-    std::vector<int>            cell_unknown(n_cells, -1);
-    unsigned int                n_unknowns = 0;
-    bool                        coupled    = false;
-    for (const auto &face : faces)
-      for (const unsigned int c : face.cells)
-        if (cell_unknown[c] < 0)
-          cell_unknown[c] = n_unknowns++;
-        else
-          coupled = true;
-    for (unsigned int c = 0; c < n_cells; ++c)
-      if (cell_unknown[c] >= 0)
-        conditions[c].cell_unknown = cell_unknown[c];
-    std::vector<double> rhs(n_unknowns + 3 * faces.size(), 0.);
-    for (unsigned int f = 0; f < faces.size(); ++f)
-      {
-        const int first = n_unknowns + 3 * f;
-        for (const unsigned int c : faces[f].cells)
-          (faces[f].master ? conditions[c].master_unknown :
-                             conditions[c].slave_unknown) = first;
-        for (unsigned int r = 0; r < 3; ++r)
-          rhs[first + r] = faces[f].integrals[r];
-      }
-    n_unknowns += 3 * faces.size();
-    for (unsigned int c = 0; c < n_cells; ++c)
-      if (cell_unknown[c] >= 0)
-        rhs[cell_unknown[c]] = cell_areas[c];
-
-    // rhs = b - C w.
-    std::array<unsigned int, 7> index;
-    std::array<double, 7>       value;
-    const auto                  subtract_integrals = [&]() {
-      for (unsigned int c = 0; c < n_cells; ++c)
-        if (cell_unknown[c] >= 0)
-          for (unsigned int q = cell_ranges[c].first; q < cell_ranges[c].second;
-               ++q)
-            {
-              const unsigned int n =
-                condition_values(conditions[c], points[q], index, value);
-              for (unsigned int k = 0; k < n; ++k)
-                rhs[index[k]] -= points[q].weight * value[k];
-            }
-    };
-    subtract_integrals();
-
-    std::vector<double> lambda(n_unknowns, 0.);
-    if (!coupled)
-      for (const auto &face : faces)
-        {
-          // Local unknowns: the face's cells, then its three conditions.
-          const unsigned int        n_local = face.cells.size() + 3;
-          std::vector<unsigned int> global(n_local);
-          for (unsigned int i = 0; i < face.cells.size(); ++i)
-            global[i] = cell_unknown[face.cells[i]];
-          for (unsigned int r = 0; r < 3; ++r)
-            global[face.cells.size() + r] =
-              (face.master ? conditions[face.cells[0]].master_unknown :
-                             conditions[face.cells[0]].slave_unknown) +
-              r;
-          // The face's cells have consecutive unknowns.
-          const unsigned int first_cell = global[0];
-          const unsigned int first_face = global[face.cells.size()];
-          const auto         local      = [&](const unsigned int i) {
-            return (i >= first_cell && i < first_cell + face.cells.size()) ?
-                                  i - first_cell :
-                                  i - first_face + face.cells.size();
-          };
-          FullMatrix<double> G(n_local, n_local);
-          Vector<double>     b(n_local), x(n_local);
-          for (const unsigned int c : face.cells)
-            for (unsigned int q = cell_ranges[c].first;
-                 q < cell_ranges[c].second;
-                 ++q)
-              {
-                const unsigned int n =
-                  condition_values(conditions[c], points[q], index, value);
-                for (unsigned int k = 0; k < n; ++k)
-                  for (unsigned int l = 0; l < n; ++l)
-                    G(local(index[k]), local(index[l])) +=
-                      points[q].weight * value[k] * value[l];
-              }
-          for (unsigned int i = 0; i < n_local; ++i)
-            b(i) = rhs[global[i]];
-          G.gauss_jordan();
-          G.vmult(x, b);
-          for (unsigned int i = 0; i < n_local; ++i)
-            lambda[global[i]] = x(i);
-        }
-    else
-      {
-        DynamicSparsityPattern dsp(n_unknowns, n_unknowns);
-        for (unsigned int c = 0; c < n_cells; ++c)
-          if (cell_unknown[c] >= 0)
-            {
-              const unsigned int n =
-                condition_values(conditions[c],
-                                 points[cell_ranges[c].first],
-                                 index,
-                                 value);
-              for (unsigned int k = 0; k < n; ++k)
-                for (unsigned int l = 0; l < n; ++l)
-                  dsp.add(index[k], index[l]);
-            }
-        SparsityPattern pattern;
-        pattern.copy_from(dsp);
-        SparseMatrix<double> G(pattern);
-        for (unsigned int c = 0; c < n_cells; ++c)
-          if (cell_unknown[c] >= 0)
-            for (unsigned int q = cell_ranges[c].first;
-                 q < cell_ranges[c].second;
-                 ++q)
-              {
-                const unsigned int n =
-                  condition_values(conditions[c], points[q], index, value);
-                for (unsigned int k = 0; k < n; ++k)
-                  for (unsigned int l = 0; l < n; ++l)
-                    G.add(index[k],
-                          index[l],
-                          points[q].weight * value[k] * value[l]);
-              }
-        SparseDirectUMFPACK solver;
-        solver.initialize(G);
-        Vector<double> x(rhs.begin(), rhs.end());
-        solver.solve(x);
-        std::copy(x.begin(), x.end(), lambda.begin());
-      }
+    const Conditions          conditions = number_conditions(cell_areas, faces);
+    const std::vector<double> rhs = residual(points, cell_ranges, conditions);
+    const std::vector<double> lambda =
+      conditions.coupled ?
+        solve_coupled(points, cell_ranges, conditions, rhs) :
+        solve_per_face(points, cell_ranges, faces, conditions, rhs);
 
     // The new weights, if no weight changes by more than half.
     std::vector<double> factor(points.size(), 1.);
-    for (unsigned int c = 0; c < n_cells; ++c)
-      if (cell_unknown[c] >= 0)
-        for (unsigned int q = cell_ranges[c].first; q < cell_ranges[c].second;
-             ++q)
-          {
-            const unsigned int n =
-              condition_values(conditions[c], points[q], index, value);
-            for (unsigned int k = 0; k < n; ++k)
-              factor[q] += lambda[index[k]] * value[k];
-            if (!(factor[q] > 0.5 && factor[q] < 1.5))
-              return 1.;
-          }
+    bool                acceptable = true;
+    for_each_point(points,
+                   cell_ranges,
+                   conditions,
+                   [&](const unsigned int                 q,
+                       const unsigned int                 n,
+                       const std::array<unsigned int, 7> &index,
+                       const std::array<double, 7>       &value) {
+                     for (unsigned int k = 0; k < n; ++k)
+                       factor[q] += lambda[index[k]] * value[k];
+                     acceptable =
+                       acceptable && factor[q] > 0.5 && factor[q] < 1.5;
+                   });
+    if (!acceptable)
+      return 1.;
     for (unsigned int q = 0; q < points.size(); ++q)
       points[q].weight *= factor[q];
 
-    // The remaining error, relative to the faces' areas.
-    std::fill(rhs.begin(), rhs.end(), 0.);
-    for (unsigned int f = 0; f < faces.size(); ++f)
-      for (unsigned int r = 0; r < 3; ++r)
-        rhs[n_unknowns - 3 * faces.size() + 3 * f + r] = faces[f].integrals[r];
-    for (unsigned int c = 0; c < n_cells; ++c)
-      if (cell_unknown[c] >= 0)
-        rhs[cell_unknown[c]] = cell_areas[c];
-    subtract_integrals();
+    // The remaining error of the face integrals, relative to the faces'
+    // areas.
+    const std::vector<double> remaining =
+      residual(points, cell_ranges, conditions);
     double error = 0;
     for (unsigned int f = 0; f < faces.size(); ++f)
       {
@@ -323,8 +383,7 @@ namespace TKR::Mortar
         for (unsigned int r = 0; r < 3; ++r)
           error =
             std::max(error,
-                     std::abs(rhs[n_unknowns - 3 * faces.size() + 3 * f + r]) /
-                       area);
+                     std::abs(remaining[conditions.face_first[f] + r]) / area);
       }
     return error;
   }

@@ -11,6 +11,7 @@
 #include <tkr/mortar/contact_surface.h>
 #include <tkr/mortar/segment_quadrature.h>
 
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -193,11 +194,19 @@ namespace TKR::Mortar
   private:
     struct MasterGeometry;
     struct Accumulator;
+    struct SlaveProjection;
 
     /** D_jj (nodal areas) and nodal normals over the whole slave surface. */
     void
     compute_nodal_areas_and_normals(
       const std::vector<dealii::Point<3>> &positions);
+
+    /** Slave face @p e projected onto its auxiliary plane; false if the
+     *  projection is not convex. */
+    bool
+    project_slave_face(const unsigned int                   e,
+                       const std::vector<dealii::Point<3>> &positions,
+                       std::optional<SlaveProjection>      &projection);
 
     /** The integration cells of slave face @p e, with Gauss points. */
     void
@@ -206,6 +215,15 @@ namespace TKR::Mortar
                const MasterGeometry                &master_faces,
                const double                         search_distance,
                Accumulator                         &accumulator);
+
+    /** The integration cell of slave face @p e and master face @p m. */
+    void
+    make_cell(const unsigned int     e,
+              const unsigned int     m,
+              const SlaveProjection &slave_face,
+              const MasterGeometry  &master_faces,
+              const double           search_distance,
+              Accumulator           &accumulator);
 
     /** Fit the weights of the points to exact face integrals. */
     void
