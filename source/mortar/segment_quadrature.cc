@@ -233,6 +233,59 @@ namespace TKR::Mortar
       return r;
     }
 
+    /**
+     * Solve G x = b for the symmetric positive semidefinite G = C W C^T
+     * (solve_regularized()). G is singular where conditions coincide (a
+     * slave and a master face that are the same parallelogram, as in the
+     * middle of the structured Hertz meshes), and b is then consistent:
+     * iterated Tikhonov regularisation,
+     * x_{k+1} = x_k + (G + eps diag G)^{-1} (b - G x_k) with eps = 1e-10,
+     * three steps, each of which reduces the error of a component with
+     * (scaled) eigenvalue sigma by the factor eps / (sigma + eps).
+     */
+    template <typename Matrix, typename Inverse>
+    void
+    refine(const Matrix         &G,
+           const Inverse        &inverse,
+           const Vector<double> &b,
+           Vector<double>       &x)
+    {
+      x = 0.;
+      Vector<double> residual(b), correction(b.size());
+      for (unsigned int step = 0; step < 3; ++step)
+        {
+          inverse.vmult(correction, residual);
+          x += correction;
+          G.residual(residual, x, b);
+        }
+    }
+
+    void
+    solve_regularized(const FullMatrix<double> &G,
+                      const Vector<double>     &b,
+                      Vector<double>           &x)
+    {
+      FullMatrix<double> inverse(G);
+      for (unsigned int i = 0; i < G.m(); ++i)
+        inverse(i, i) += 1e-10 * std::abs(G(i, i)) + 1e-300;
+      inverse.gauss_jordan();
+      refine(G, inverse, b, x);
+    }
+
+    void
+    solve_regularized(const SparseMatrix<double> &G,
+                      const Vector<double>       &b,
+                      Vector<double>             &x)
+    {
+      SparseMatrix<double> regularized(G.get_sparsity_pattern());
+      regularized.copy_from(G);
+      for (unsigned int i = 0; i < G.m(); ++i)
+        regularized.diag_element(i) += 1e-10 * std::abs(G.diag_element(i));
+      SparseDirectUMFPACK inverse;
+      inverse.initialize(regularized);
+      refine(G, inverse, b, x);
+    }
+
     /** lambda from one small dense system (C W C^T) per face, for faces
      *  whose cells are disjoint. */
     std::vector<double>
@@ -277,8 +330,7 @@ namespace TKR::Mortar
             b(i) = rhs[first_cell + i];
           for (unsigned int r = 0; r < 3; ++r)
             b(cells.size() + r) = rhs[first_face + r];
-          G.gauss_jordan();
-          G.vmult(x, b);
+          solve_regularized(G, b, x);
           for (unsigned int i = 0; i < cells.size(); ++i)
             lambda[first_cell + i] = x(i);
           for (unsigned int r = 0; r < 3; ++r)
@@ -324,10 +376,8 @@ namespace TKR::Mortar
                                  index[l],
                                  points[q].weight * value[k] * value[l]);
                      });
-      SparseDirectUMFPACK solver;
-      solver.initialize(G);
-      Vector<double> x(rhs.begin(), rhs.end());
-      solver.solve(x);
+      Vector<double> b(rhs.begin(), rhs.end()), x(n);
+      solve_regularized(G, b, x);
       return std::vector<double>(x.begin(), x.end());
     }
   } // namespace
