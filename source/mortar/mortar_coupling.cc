@@ -144,13 +144,15 @@ namespace TKR::Mortar
       bool                  fully_covered = false, overcovered = false;
     };
     /** An integration cell: faces, points, area, and the master face's
-     *  projection: its area and the exact integrals of its shape functions
-     *  phi_1..3 over it. */
+     *  projection: its area, the exact integrals of its shape functions
+     *  phi_1..3 over it, and whether the master face is flat and parallel
+     *  to the plane (then the projection's measure is the face's). */
     struct Cell
     {
       unsigned int          slave_face, master_face, begin, end;
       double                area, master_area;
       std::array<double, 3> master_exact;
+      bool                  master_parallel;
     };
 
     std::vector<Face>      faces;
@@ -447,7 +449,8 @@ namespace TKR::Mortar
        static_cast<unsigned int>(accumulator.points.size()),
        area,
        std::abs(signed_area(master_outline)),
-       plane_moments(master_plane.determinant_coefficients())});
+       plane_moments(master_plane.determinant_coefficients()),
+       max_beta - min_beta <= 1e-12 * std::sqrt(slave_face.area)});
     accumulator.faces[e].covered_plane_area += area;
 
     // Does a node of the face project onto this master face?
@@ -462,11 +465,13 @@ namespace TKR::Mortar
   // integrate the shape functions only approximately. Over a fully covered
   // slave face, though, the integrals of its shape functions must be their
   // exact integrals over the face's projection; over a fully covered master
-  // face whose cells all lie in one plane (a flat interface) those of the
-  // master face's. fit_weights() changes the weights by the least amount
-  // that makes them so. Then sum_j D_jj over a fully covered face is exact
-  // and, on a flat interface, so is the transfer of a uniform pressure to
-  // the master nodes (the contact patch test).
+  // face that is flat and whose cells all lie in one plane parallel to it
+  // (a flat interface) those of the master face's. (Only there does the
+  // transfer of a uniform pressure need the master integrals, and only
+  // there is the plane's measure the master face's own.) fit_weights() changes
+  // the weights by the least amount that makes them so. Then sum_j D_jj over a
+  // fully covered face is exact and, on a flat interface, so is the transfer of
+  // a uniform pressure to the master nodes (the contact patch test).
   void
   MortarCoupling::fit_weights(Accumulator &accumulator)
   {
@@ -487,9 +492,13 @@ namespace TKR::Mortar
     for (const auto &list : master_cells)
       {
         double fraction = 0;
+        bool   parallel = true;
         for (const unsigned int c : list)
-          fraction += cells[c].area / cells[c].master_area;
-        if (!list.empty() && std::abs(fraction - 1.) <= 1e-9)
+          {
+            fraction += cells[c].area / cells[c].master_area;
+            parallel = parallel && cells[c].master_parallel;
+          }
+        if (!list.empty() && parallel && std::abs(fraction - 1.) <= 1e-9)
           faces.push_back({list, true, cells[list[0]].master_exact});
       }
 

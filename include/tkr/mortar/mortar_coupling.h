@@ -91,10 +91,10 @@ namespace TKR::Mortar
     unsigned int n_invalid_faces = 0, n_rejected_pairs = 0;
     /** Faces (slave, and master ones on a flat interface) whose shape
      *  functions the quadrature weights were fitted to integrate exactly,
-     *  and the largest remaining relative error of such an integral (1 if
-     *  the fitting was refused). */
-    unsigned int n_fitted_faces = 0;
-    double       fitting_error  = 0;
+     *  the sweeps that took, and the largest remaining relative error of
+     *  such an integral (1 if the fitting was refused for a face). */
+    unsigned int n_fitted_faces = 0, n_fitting_sweeps = 0;
+    double       fitting_error = 0;
     /** Quadrature points of all integration cells. */
     unsigned int n_quadrature_points = 0;
     /** Nodes that may become active; of them, those whose support is only
