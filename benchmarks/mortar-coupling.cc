@@ -3,12 +3,16 @@
 //
 // Time MortarCoupling::reinit() on a two-body mesh, as the gait calls it
 // (about 900 times per cycle): the vertex positions of the mesh file (the
-// 0 % pose), optionally the femur moved by DZ along z first.
+// 0 % pose), optionally the femur moved by DZ along z and then rotated by
+// FLEXION degrees about the x axis through (y, z) = (-2, 53.001) (the
+// flexion axis of the TKR A meshes).
 //   cmake --build build/release --target mortar-coupling
-//   build/release/mortar-coupling FILE.msh [N_CALLS [SEARCH_DISTANCE [DZ]]]
+//   build/release/mortar-coupling FILE.msh [N_CALLS [SEARCH_DISTANCE [DZ
+//   [FLEXION]]]]
 // Prints the coupling statistics and the mean wall time of one call.
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/numbers.h>
 #include <deal.II/base/timer.h>
 
 #include <deal.II/dofs/dof_handler.h>
@@ -40,6 +44,8 @@ main(int argc, char **argv)
   const unsigned int n_calls         = argc > 2 ? std::stoi(argv[2]) : 20;
   const double       search_distance = argc > 3 ? std::stod(argv[3]) : 2.;
   const double       dz              = argc > 4 ? std::stod(argv[4]) : 0.;
+  const double       flexion =
+    (argc > 5 ? std::stod(argv[5]) : 0.) * numbers::PI / 180.;
 
   Triangulation<3> triangulation;
   Mesh::read_mesh(Parameters::Mesh::with_default_groups(argv[1]),
@@ -61,7 +67,13 @@ main(int argc, char **argv)
         is_femur[cell->vertex_index(v)] = true;
   for (unsigned int v = 0; v < positions.size(); ++v)
     if (is_femur[v])
-      positions[v][2] += dz;
+      {
+        const double y  = positions[v][1] + 2.,
+                     z  = positions[v][2] + dz - 53.001;
+        positions[v][1] = -2. + std::cos(flexion) * y - std::sin(flexion) * z;
+        positions[v][2] =
+          53.001 + std::sin(flexion) * y + std::cos(flexion) * z;
+      }
 
   coupling.reinit(positions, search_distance); // warm-up
   Timer timer;
@@ -72,7 +84,8 @@ main(int argc, char **argv)
   const auto &s = coupling.statistics();
   std::cout << argv[1] << ": " << s.n_slave_faces << " slave faces, "
             << s.n_master_faces << " master faces, search distance "
-            << search_distance << " mm, femur moved by " << dz << " mm"
+            << search_distance << " mm, femur moved by " << dz
+            << " mm and flexed by " << flexion * 180. / numbers::PI << " deg"
             << std::endl
             << "  candidate pairs " << s.n_candidate_pairs
             << ", overlapping pairs " << s.n_overlapping_pairs
