@@ -91,10 +91,10 @@ namespace TKR::Mortar
     unsigned int n_invalid_faces = 0, n_rejected_pairs = 0;
     /** Faces (slave, and master ones on a flat interface) whose shape
      *  functions the quadrature weights were fitted to integrate exactly,
-     *  the sweeps that took, and the largest remaining relative error of
-     *  such an integral (1 if the fitting was refused for a face). */
-    unsigned int n_fitted_faces = 0, n_fitting_sweeps = 0;
-    double       fitting_error = 0;
+     *  and the largest remaining relative error of such an integral (1 if
+     *  the fitting was refused). */
+    unsigned int n_fitted_faces = 0;
+    double       fitting_error  = 0;
     /** Quadrature points of all integration cells. */
     unsigned int n_quadrature_points = 0;
     /** Nodes that may become active; of them, those whose support is only
@@ -120,7 +120,8 @@ namespace TKR::Mortar
    * clip polygon is an integration cell, with the quadrature of
    * CellQuadrature: its points are mapped back onto the slave and the
    * master face by the inverse of their projected bilinear maps, the
-   * weights are exact for the shape functions of both faces, and they are
+   * weights integrate the shape functions of fully covered slave faces (and
+   * on a flat interface of the master faces) exactly, and they are
    * multiplied by the ratio of the slave surface element to the plane's,
    * so that the integrals are over the true slave surface. Coverage is
    * measured in the plane, the same way for D, M and the gap.
