@@ -20,6 +20,7 @@ sys.path.insert(0, HERE)
 
 import blockmesh  # noqa: E402
 import check_msh  # noqa: E402
+import unstructured  # noqa: E402
 import verification  # noqa: E402
 
 PATCH = dict(L=20.0, H_t=10.0, H_f=6.0)
@@ -53,6 +54,10 @@ def targets():
         out.append(("verification/cylinder-%s.msh" % res,
                     (lambda path, r=res: _write(path, verification.make_cylinder(r)[0])),
                     (lambda r=res: verification.make_cylinder_volumes()), res == "fine"))
+    for name in ("patch", "sphere"):
+        out.append(("verification/%s-unstructured.msh" % name,
+                    (lambda path, n=name: unstructured.write(n, path)),
+                    (lambda n=name: unstructured.volumes(n)), False))
     try:
         import tkr
     except ImportError:
@@ -63,6 +68,8 @@ def targets():
                 out.append(("tkr/tkr-%s-%s.msh" % (variant, res),
                             (lambda path, v=variant, r=res: _write_tkr(v, r, path)),
                             (lambda v=variant: tkr.cad_volumes(v)), res == "fine"))
+        out.append(("tkr/tkr-a-implant.msh", unstructured.make_implant,
+                    (lambda: tkr.cad_volumes("a")), False))
     return out
 
 

@@ -11,7 +11,8 @@
 #include <tkr/mortar/mortar_coupling.h>
 #include <tkr/mortar/surface_geometry.h>
 
-#include <map>
+#include <algorithm>
+#include <optional>
 
 namespace TKR::Mortar
 {
@@ -19,6 +20,8 @@ namespace TKR::Mortar
 
   namespace
   {
+    using BoxEntry = std::pair<BoundingBox<3>, unsigned int>;
+
     /** Bounding box of a face. */
     BoundingBox<3>
     face_box(const std::array<Point<3>, 4> &x)
@@ -27,24 +30,87 @@ namespace TKR::Mortar
     }
 
     /**
-     * Coefficients A of the dual basis psi_i = sum_k A_ik phi_k on one
-     * slave face: A = D_e M_e^{-1} with the face mass matrix M_e and its row
-     * sums D_e, which makes int psi_i phi_k = delta_ik int phi_i.
+     * The master faces whose boxes meet the slave face's box stretched
+     * along the plane normal @p n0 by the search distance (a master point
+     * within that distance of the face along n0 lies in it), and by a
+     * little tangentially for round-off.
+     */
+    void
+    find_candidates(const RTree<BoxEntry>         &tree,
+                    const std::array<Point<3>, 4> &slave_vertices,
+                    const Tensor<1, 3>            &n0,
+                    const double                   search_distance,
+                    std::vector<BoxEntry>         &candidates)
+    {
+      candidates.clear();
+      const BoundingBox<3> box     = face_box(slave_vertices);
+      auto                 corners = box.get_boundary_points();
+      const double         tangential =
+        1e-3 * (box.side_length(0) + box.side_length(1) + box.side_length(2));
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          const double margin = search_distance * std::abs(n0[d]) + tangential;
+          corners.first[d] -= margin;
+          corners.second[d] += margin;
+        }
+      tree.query(boost::geometry::index::intersects(BoundingBox<3>(corners)),
+                 std::back_inserter(candidates));
+    }
+
+    /** True if @p p lies in the convex counter-clockwise @p polygon, or
+     *  on its boundary to @p tolerance (a length). */
+    bool
+    inside(const Polygon &polygon, const Point2 &p, const double tolerance)
+    {
+      for (unsigned int v = 0; v < polygon.size(); ++v)
+        {
+          const Tensor<1, 2> e = polygon[(v + 1) % polygon.size()] - polygon[v];
+          const Tensor<1, 2> d = p - polygon[v];
+          if (e[0] * d[1] - e[1] * d[0] < -tolerance * e.norm())
+            return false;
+        }
+      return true;
+    }
+
+    /**
+     * The exact integrals of phi_1, phi_2, phi_3 over the unit square with
+     * the weight |J|, J = j_0 + j_1 xi_0 + j_2 xi_1 the Jacobian determinant
+     * of a convex plane bilinear map (so of one sign): the integrals of the
+     * shape functions over the projected face, in the plane's measure. The
+     * integrand has degree at most 3 in each variable, so 2 x 2 Gauss
+     * points are exact.
+     */
+    std::array<double, 3>
+    plane_moments(const std::array<double, 3> &j)
+    {
+      const QGauss<2>       gauss(2);
+      std::array<double, 3> result{};
+      for (unsigned int q = 0; q < gauss.size(); ++q)
+        {
+          const Point<2> &x = gauss.point(q);
+          const double    J = std::abs(j[0] + j[1] * x[0] + j[2] * x[1]);
+          const auto      N = BilinearQuad::shape_values(x);
+          for (unsigned int i = 0; i < 3; ++i)
+            result[i] += gauss.weight(q) * J * N[i + 1];
+        }
+      return result;
+    }
+
+    /**
+     * The test functions on a fully covered face: the dual basis
+     * psi_i = sum_k A_ik phi_k with A = D_e M_e^{-1}, where M_e and its row
+     * sums D_e come from the face's own quadrature points, so that
+     * sum_q W_q psi_i phi_k = delta_ik D_e,i holds to round-off.
      */
     FullMatrix<double>
-    dual_basis_coefficients(const BilinearQuad &quad)
+    dual_basis_coefficients(const std::vector<std::array<double, 4>> &phi,
+                            const std::vector<double>                &weight)
     {
-      FullMatrix<double> mass(4, 4), A(4, 4), mass_inverse(4, 4);
-      const QGauss<2>    quadrature(3);
-      for (unsigned int q = 0; q < quadrature.size(); ++q)
-        {
-          const auto   N = BilinearQuad::shape_values(quadrature.point(q));
-          const double JxW =
-            quad.area_normal(quadrature.point(q)).norm() * quadrature.weight(q);
-          for (unsigned int i = 0; i < 4; ++i)
-            for (unsigned int k = 0; k < 4; ++k)
-              mass(i, k) += N[i] * N[k] * JxW;
-        }
+      FullMatrix<double> mass(4, 4), mass_inverse(4, 4), A(4, 4);
+      for (unsigned int q = 0; q < phi.size(); ++q)
+        for (unsigned int i = 0; i < 4; ++i)
+          for (unsigned int k = 0; k < 4; ++k)
+            mass(i, k) += weight[q] * phi[q][i] * phi[q][k];
       mass_inverse.invert(mass);
       for (unsigned int i = 0; i < 4; ++i)
         {
@@ -58,40 +124,121 @@ namespace TKR::Mortar
     }
   } // namespace
 
+  /**
+   * What reinit() collects: the integration cells of all slave faces with
+   * their quadrature points (first pass), and then per slave node the
+   * covered area int_covered phi_j, the (master node, value) contributions
+   * to its row of M, and whether the node projects onto an accepted master
+   * face. Plus reused scratch space.
+   */
+  struct MortarCoupling::Accumulator
+  {
+    /** A slave face: its plane normal, its cells, and the exact integrals
+     *  of its shape functions phi_1..3 over its projection. */
+    struct Face
+    {
+      Tensor<1, 3>          n0;
+      unsigned int          first_cell = 0, end_cell = 0;
+      double                plane_area = 0, covered_plane_area = 0;
+      std::array<double, 3> exact{};
+      bool                  fully_covered = false, overcovered = false;
+    };
+    /** An integration cell: faces, points, area, and the master face's
+     *  projection: its area, the exact integrals of its shape functions
+     *  phi_1..3 over it, and whether the master face is flat and parallel
+     *  to the plane (then the projection's measure is the face's). */
+    struct Cell
+    {
+      unsigned int          slave_face, master_face, begin, end;
+      double                area, master_area;
+      std::array<double, 3> master_exact;
+      bool                  master_parallel;
+    };
+
+    std::vector<Face>      faces;
+    std::vector<Cell>      cells;
+    std::vector<CellPoint> points;
+
+    std::vector<double>                                       covered_D;
+    std::vector<std::vector<std::pair<unsigned int, double>>> rows;
+    std::vector<bool>                                         projects;
+
+    std::vector<BoxEntry>              candidates;
+    std::vector<std::array<double, 4>> phi;
+    std::vector<double>                weight;
+  };
+
+  /** The master surface at the current positions. */
+  struct MortarCoupling::MasterGeometry
+  {
+    std::vector<BilinearQuad> quads;
+    /** Outward unit normals at the face centres. */
+    std::vector<Tensor<1, 3>> normals;
+    RTree<BoxEntry>           tree;
+
+    MasterGeometry(const ContactSurface        &master,
+                   const std::vector<Point<3>> &positions)
+    {
+      const Point2          centre(0.5, 0.5);
+      const unsigned int    n_faces = master.faces().size();
+      std::vector<BoxEntry> boxes;
+      quads.resize(n_faces);
+      normals.resize(n_faces);
+      for (unsigned int m = 0; m < n_faces; ++m)
+        {
+          quads[m].vertices    = master.face_vertices(m, positions);
+          const Tensor<1, 3> n = quads[m].area_normal(centre);
+          normals[m] = master.orientation(m, positions) * n / n.norm();
+          boxes.emplace_back(face_box(quads[m].vertices), m);
+        }
+      tree = pack_rtree(boxes);
+    }
+  };
+
   MortarCoupling::MortarCoupling(const ContactSurface &slave,
                                  const ContactSurface &master)
     : slave(slave)
     , master(master)
   {}
 
+  // Three passes: the integration cells of every slave face with Gauss
+  // points; the fitted weights (they need the cells of a master face, which
+  // come from several slave faces); the contributions of every slave face
+  // to D and M. Then the nodes are finished.
   void
   MortarCoupling::reinit(const std::vector<Point<3>> &positions,
                          const double                 search_distance,
                          const Tensor<2, 3>          &master_rotation)
   {
-    const auto &slave_faces  = slave.faces();
-    const auto &master_faces = master.faces();
     nodes.assign(slave.nodes().size(), SlaveNode());
     stats                = CouplingStatistics();
-    stats.n_slave_faces  = slave_faces.size();
-    stats.n_master_faces = master_faces.size();
+    stats.n_slave_faces  = slave.faces().size();
+    stats.n_master_faces = master.faces().size();
 
-    // Master faces: geometry, outward normal at the centre, R-tree.
-    const Point2              centre(0.5, 0.5);
-    std::vector<BilinearQuad> master_quads(master_faces.size());
-    std::vector<Tensor<1, 3>> master_normals(master_faces.size());
-    std::vector<std::pair<BoundingBox<3>, unsigned int>> boxes;
-    for (unsigned int m = 0; m < master_faces.size(); ++m)
-      {
-        master_quads[m].vertices = master.face_vertices(m, positions);
-        const Tensor<1, 3> n     = master_quads[m].area_normal(centre);
-        master_normals[m] = master.orientation(m, positions) * n / n.norm();
-        boxes.emplace_back(face_box(master_quads[m].vertices), m);
-      }
-    const auto tree = pack_rtree(boxes);
+    compute_nodal_areas_and_normals(positions);
 
-    // D_jj and the nodal normals: integrals of phi_j and phi_j n over the
-    // whole slave surface.
+    const MasterGeometry master_faces(master, positions);
+    Accumulator          accumulator;
+    accumulator.faces.resize(slave.faces().size());
+    accumulator.covered_D.assign(nodes.size(), 0.);
+    accumulator.rows.resize(nodes.size());
+    accumulator.projects.assign(nodes.size(), false);
+    for (unsigned int e = 0; e < slave.faces().size(); ++e)
+      make_cells(e, positions, master_faces, search_distance, accumulator);
+    fit_weights(accumulator);
+    for (unsigned int e = 0; e < slave.faces().size(); ++e)
+      assemble_face(e, positions, accumulator);
+    finish_nodes(positions, master_rotation, accumulator);
+  }
+
+  // D_jj = int phi_j and the nodal normals n_j = int phi_j n / |...| over
+  // the whole slave surface (2x2 Gauss points per face: exact for flat
+  // faces).
+  void
+  MortarCoupling::compute_nodal_areas_and_normals(
+    const std::vector<Point<3>> &positions)
+  {
+    const auto     &slave_faces = slave.faces();
     const QGauss<2> face_quadrature(2);
     for (unsigned int e = 0; e < slave_faces.size(); ++e)
       {
@@ -116,159 +263,387 @@ namespace TKR::Mortar
         node.normal /= node.normal.norm();
         stats.slave_area += node.D;
       }
+  }
 
-    // M_jk by segment-based integration over the overlap of each slave face
-    // with the projections of the master faces near it.
-    const QGaussSimplex<2>                      triangle_quadrature(3);
-    std::vector<std::map<unsigned int, double>> M(nodes.size());
-    std::vector<bool> face_covered(slave_faces.size());
-    std::vector<std::pair<BoundingBox<3>, unsigned int>> candidates;
-    for (unsigned int e = 0; e < slave_faces.size(); ++e)
+  /**
+   * A slave face in its auxiliary plane: the plane, the face's projection
+   * and its outline (counter-clockwise), its area and box in the plane, and
+   * the range of its vertices' heights above the plane.
+   */
+  struct MortarCoupling::SlaveProjection
+  {
+    AuxiliaryPlane plane;
+    PlaneQuad      quad;
+    Polygon        outline;
+    double         area, min_height, max_height;
+    BoundingBox<2> box;
+  };
+
+  // The plane: normal to the averaged nodal normal, or to the face's own
+  // normal where that is more than 60 degrees away or where the face's
+  // projection would not be convex. False if even then it is not.
+  bool
+  MortarCoupling::project_slave_face(const unsigned int              e,
+                                     const std::vector<Point<3>>    &positions,
+                                     std::optional<SlaveProjection> &result)
+  {
+    const BilinearQuad slave_quad{slave.face_vertices(e, positions)};
+    const Point2       centre(0.5, 0.5);
+    Tensor<1, 3>       face_normal =
+      slave.orientation(e, positions) * slave_quad.area_normal(centre);
+    face_normal /= face_normal.norm();
+    Tensor<1, 3> averaged;
+    for (const unsigned int j : slave.faces()[e].nodes)
+      averaged += nodes[j].normal;
+    averaged /= averaged.norm();
+
+    for (const Tensor<1, 3> &n0 : {averaged, face_normal})
       {
-        const BilinearQuad       slave_quad{slave.face_vertices(e, positions)};
-        const FullMatrix<double> A = dual_basis_coefficients(slave_quad);
-        Tensor<1, 3>             n0 =
-          slave.orientation(e, positions) * slave_quad.area_normal(centre);
-        n0 /= n0.norm();
-
-        // Candidates: master faces whose boxes meet the slave face's box
-        // stretched along its normal by the search distance (and by a
-        // little tangentially). Stretching only along the normal keeps the
-        // number of candidates per face independent of the mesh size.
-        candidates.clear();
-        {
-          BoundingBox<3> box        = face_box(slave_quad.vertices);
-          auto           corners    = box.get_boundary_points();
-          const double   tangential = 0.05 * box.side_length(0) +
-                                    0.05 * box.side_length(1) +
-                                    0.05 * box.side_length(2);
-          for (unsigned int d = 0; d < 3; ++d)
-            {
-              const double margin =
-                search_distance * std::abs(n0[d]) + tangential;
-              corners.first[d] -= margin;
-              corners.second[d] += margin;
-            }
-          tree.query(boost::geometry::index::intersects(
-                       BoundingBox<3>(corners)),
-                     std::back_inserter(candidates));
-        }
-        stats.n_candidate_pairs += candidates.size();
-
-        double covered = 0;
-        for (const auto &candidate : candidates)
+        if (!(n0 * face_normal > 0.5))
+          continue;
+        const AuxiliaryPlane plane(slave_quad.point(centre), n0);
+        PlaneQuad            quad;
+        for (unsigned int v = 0; v < 4; ++v)
+          quad.vertices[v] = plane.coordinates(slave_quad.vertices[v]);
+        const int orientation = quad.convex_orientation();
+        if (orientation == 0)
+          continue;
+        Polygon outline = quad.outline();
+        if (orientation < 0)
+          std::reverse(outline.begin(), outline.end());
+        double min_height = 1e300, max_height = -1e300;
+        for (const auto &x : slave_quad.vertices)
           {
-            const unsigned int  m           = candidate.second;
-            const BilinearQuad &master_quad = master_quads[m];
-            if (master_normals[m] * n0 >= 0)
-              continue; // not facing the slave face
-            // Project the master vertices along n0 into the slave face's
-            // parameter square; polygon order 0, 1, 3, 2.
-            Polygon polygon;
-            double  min_beta = 1e300, max_beta = -1e300;
-            bool    ok = true;
-            for (const unsigned int v : {0u, 1u, 3u, 2u})
-              {
-                Point2 xi;
-                double beta;
-                ok = ok &&
-                     slave_quad.project(master_quad.vertices[v], n0, xi, beta);
-                polygon.push_back(xi);
-                min_beta = std::min(min_beta, beta);
-                max_beta = std::max(max_beta, beta);
-              }
-            if (!ok || min_beta > search_distance ||
-                max_beta < -search_distance)
-              continue;
-            const Polygon overlap = clip_to_unit_square(polygon);
-            if (overlap.empty())
-              continue;
-            ++stats.n_overlapping_pairs;
-            covered += signed_area(overlap);
-
-            // Fan triangulation of the (convex) overlap polygon.
-            for (unsigned int t = 1; t + 1 < overlap.size(); ++t)
-              {
-                const Point2 &a = overlap[0], &b = overlap[t],
-                             &c = overlap[t + 1];
-                const double triangle_area =
-                  0.5 *
-                  std::abs((b - a)[0] * (c - a)[1] - (b - a)[1] * (c - a)[0]);
-                if (triangle_area < 1e-16)
-                  continue;
-                for (unsigned int q = 0; q < triangle_quadrature.size(); ++q)
-                  {
-                    const Point<2> &s   = triangle_quadrature.point(q);
-                    const Point2    xi  = a + s[0] * (b - a) + s[1] * (c - a);
-                    const double    JxW = 2. * triangle_area *
-                                       triangle_quadrature.weight(q) *
-                                       slave_quad.area_normal(xi).norm();
-                    Point2 eta;
-                    double beta;
-                    if (!master_quad.project(slave_quad.point(xi),
-                                             n0,
-                                             eta,
-                                             beta))
-                      continue;
-                    // The overlap has straight edges in the slave parameter
-                    // plane; the master face's image has slightly curved
-                    // ones. Stay on the master face.
-                    for (unsigned int d = 0; d < 2; ++d)
-                      eta[d] = std::min(1., std::max(0., eta[d]));
-                    const auto N_s = BilinearQuad::shape_values(xi);
-                    const auto N_m = BilinearQuad::shape_values(eta);
-                    for (unsigned int i = 0; i < 4; ++i)
-                      {
-                        double psi = 0;
-                        for (unsigned int k = 0; k < 4; ++k)
-                          psi += A(i, k) * N_s[k];
-                        auto &row = M[slave_faces[e].nodes[i]];
-                        for (unsigned int l = 0; l < 4; ++l)
-                          row[master_faces[m].nodes[l]] += psi * N_m[l] * JxW;
-                      }
-                  }
-              }
+            min_height = std::min(min_height, plane.height(x));
+            max_height = std::max(max_height, plane.height(x));
           }
-        // The overlaps tile the slave face exactly if the master surface
-        // covers it once; more than the face means folded coverage.
-        face_covered[e] = std::abs(covered - 1.) < 1e-8;
+        const BoundingBox<2> box(
+          std::vector<Point2>(outline.begin(), outline.end()));
+        const double area = signed_area(outline);
+        result.emplace(SlaveProjection{plane,
+                                       quad,
+                                       outline,
+                                       area,
+                                       min_height,
+                                       max_height,
+                                       box});
+        return true;
+      }
+    return false;
+  }
+
+  // The integration cells of slave face e (see the class documentation):
+  // auxiliary plane, candidates, and a cell for each candidate that passes.
+  void
+  MortarCoupling::make_cells(const unsigned int           e,
+                             const std::vector<Point<3>> &positions,
+                             const MasterGeometry        &master_faces,
+                             const double                 search_distance,
+                             Accumulator                 &accumulator)
+  {
+    auto &face      = accumulator.faces[e];
+    face.first_cell = face.end_cell = accumulator.cells.size();
+    std::optional<SlaveProjection> projection;
+    if (!project_slave_face(e, positions, projection))
+      {
+        ++stats.n_invalid_faces;
+        return;
+      }
+    face.n0         = projection->plane.normal();
+    face.plane_area = projection->area;
+    face.exact = plane_moments(projection->quad.determinant_coefficients());
+
+    find_candidates(master_faces.tree,
+                    slave.face_vertices(e, positions),
+                    face.n0,
+                    search_distance,
+                    accumulator.candidates);
+    stats.n_candidate_pairs += accumulator.candidates.size();
+    for (const auto &candidate : accumulator.candidates)
+      make_cell(e,
+                candidate.second,
+                *projection,
+                master_faces,
+                search_distance,
+                accumulator);
+
+    face.end_cell = accumulator.cells.size();
+    if (face.end_cell == face.first_cell)
+      return;
+    ++stats.n_integrated_faces;
+    const double coverage = face.covered_plane_area / face.plane_area;
+    face.overcovered      = coverage > 1. + 1e-9;
+    face.fully_covered    = !face.overcovered && coverage >= 1. - 1e-9;
+    if (face.overcovered)
+      ++stats.n_overcovered_faces;
+    else if (face.fully_covered)
+      ++stats.n_fully_covered_faces;
+    else
+      ++stats.n_partly_covered_faces;
+  }
+
+  // The cell of slave face e and master face m, if they face each other,
+  // lie within the search distance and overlap in the plane; cheap
+  // rejections first.
+  void
+  MortarCoupling::make_cell(const unsigned int     e,
+                            const unsigned int     m,
+                            const SlaveProjection &slave_face,
+                            const MasterGeometry  &master_faces,
+                            const double           search_distance,
+                            Accumulator           &accumulator)
+  {
+    const auto         &plane       = slave_face.plane;
+    const BilinearQuad &master_quad = master_faces.quads[m];
+    if (!(master_faces.normals[m] * plane.normal() < 0))
+      return; // not facing the slave face
+
+    // The gap between the faces along n0 lies between these bounds (each
+    // face lies between its vertices' heights).
+    PlaneQuad master_plane;
+    double    min_beta = 1e300, max_beta = -1e300;
+    for (unsigned int v = 0; v < 4; ++v)
+      {
+        const double beta        = plane.height(master_quad.vertices[v]);
+        min_beta                 = std::min(min_beta, beta);
+        max_beta                 = std::max(max_beta, beta);
+        master_plane.vertices[v] = plane.coordinates(master_quad.vertices[v]);
+      }
+    if (min_beta - slave_face.max_height > search_distance ||
+        max_beta - slave_face.min_height < -search_distance)
+      return;
+    const BoundingBox<2> master_box(
+      std::vector<Point2>(master_plane.vertices.begin(),
+                          master_plane.vertices.end()));
+    if (slave_face.box.get_neighbor_type(master_box) ==
+        NeighborType::not_neighbors)
+      return;
+
+    const int orientation = master_plane.convex_orientation();
+    if (orientation == 0)
+      {
+        ++stats.n_rejected_pairs;
+        return;
+      }
+    Polygon master_outline = master_plane.outline();
+    if (orientation < 0)
+      std::reverse(master_outline.begin(), master_outline.end());
+    const Polygon cell = clip_polygon(master_outline, slave_face.outline);
+    const double  area = cell.empty() ? 0. : signed_area(cell);
+    if (area <= 1e-12 * slave_face.area)
+      return;
+
+    const unsigned int begin = accumulator.points.size();
+    if (!cell_quadrature.append_points(cell,
+                                       slave_face.quad,
+                                       master_plane,
+                                       accumulator.points))
+      {
+        ++stats.n_rejected_pairs;
+        return;
+      }
+    accumulator.cells.push_back(
+      {e,
+       m,
+       begin,
+       static_cast<unsigned int>(accumulator.points.size()),
+       area,
+       std::abs(signed_area(master_outline)),
+       plane_moments(master_plane.determinant_coefficients()),
+       max_beta - min_beta <= 1e-12 * std::sqrt(slave_face.area)});
+    accumulator.faces[e].covered_plane_area += area;
+
+    // Does a node of the face project onto this master face?
+    const auto  &face_nodes = slave.faces()[e].nodes;
+    const double tolerance  = 1e-9 * std::sqrt(slave_face.area);
+    for (unsigned int v = 0; v < 4; ++v)
+      if (inside(master_outline, slave_face.quad.vertices[v], tolerance))
+        accumulator.projects[face_nodes[v]] = true;
+  }
+
+  // The fitted weights (CellQuadrature). The Gauss points of the cells
+  // integrate the shape functions only approximately. Over a fully covered
+  // slave face, though, the integrals of its shape functions must be their
+  // exact integrals over the face's projection; over a fully covered master
+  // face that is flat and whose cells all lie in one plane parallel to it
+  // (a flat interface) those of the master face's. (Only there does the
+  // transfer of a uniform pressure need the master integrals, and only
+  // there is the plane's measure the master face's own.) fit_weights() changes
+  // the weights by the least amount that makes them so. Then sum_j D_jj over a
+  // fully covered face is exact and, on a flat interface, so is the transfer of
+  // a uniform pressure to the master nodes (the contact patch test).
+  void
+  MortarCoupling::fit_weights(Accumulator &accumulator)
+  {
+    const auto              &cells = accumulator.cells;
+    std::vector<FittingFace> faces;
+    for (const auto &face : accumulator.faces)
+      if (face.fully_covered)
+        {
+          faces.push_back({{}, false, face.exact});
+          for (unsigned int c = face.first_cell; c < face.end_cell; ++c)
+            faces.back().cells.push_back(c);
+        }
+
+    std::vector<std::vector<unsigned int>> master_cells(master.faces().size());
+    for (unsigned int c = 0; c < cells.size(); ++c)
+      if (!accumulator.faces[cells[c].slave_face].overcovered)
+        master_cells[cells[c].master_face].push_back(c);
+    for (const auto &list : master_cells)
+      {
+        double fraction = 0;
+        bool   parallel = true;
+        for (const unsigned int c : list)
+          {
+            fraction += cells[c].area / cells[c].master_area;
+            parallel = parallel && cells[c].master_parallel;
+          }
+        if (!list.empty() && parallel && std::abs(fraction - 1.) <= 1e-9)
+          faces.push_back({list, true, cells[list[0]].master_exact});
       }
 
-    // Covered nodes, their M rows and weighted gaps.
-    for (unsigned int e = 0; e < slave_faces.size(); ++e)
-      if (face_covered[e])
-        {
-          const BilinearQuad quad{slave.face_vertices(e, positions)};
-          for (unsigned int q = 0; q < face_quadrature.size(); ++q)
-            stats.covered_area +=
-              quad.area_normal(face_quadrature.point(q)).norm() *
-              face_quadrature.weight(q);
-        }
+    std::vector<std::pair<unsigned int, unsigned int>> ranges(cells.size());
+    std::vector<double>                                areas(cells.size());
+    for (unsigned int c = 0; c < cells.size(); ++c)
+      {
+        ranges[c] = {cells[c].begin, cells[c].end};
+        areas[c]  = cells[c].area;
+      }
+    if (!faces.empty())
+      stats.fitting_error =
+        Mortar::fit_weights(accumulator.points, ranges, areas, faces);
+    stats.n_fitted_faces      = faces.size();
+    stats.n_overlapping_pairs = cells.size();
+    stats.n_quadrature_points = accumulator.points.size();
+  }
+
+  // The contributions of slave face e to D^c and M, with the dual basis
+  // (fully covered face) or the standard basis (partly covered face).
+  void
+  MortarCoupling::assemble_face(const unsigned int           e,
+                                const std::vector<Point<3>> &positions,
+                                Accumulator                 &accumulator)
+  {
+    const auto &face = accumulator.faces[e];
+    if (face.end_cell == face.first_cell || face.overcovered)
+      return;
+    const auto        &face_nodes = slave.faces()[e].nodes;
+    const BilinearQuad slave_quad{slave.face_vertices(e, positions)};
+    const auto        &cells  = accumulator.cells;
+    const auto        &points = accumulator.points;
+    const unsigned int begin  = cells[face.first_cell].begin;
+    const unsigned int end    = cells[face.end_cell - 1].end;
+
+    // Weights on the slave surface: dA_slave = dA_plane |a| / |n0 . a|
+    // with a = dx/dxi_0 x dx/dxi_1.
+    auto &phi    = accumulator.phi;
+    auto &weight = accumulator.weight;
+    phi.resize(end - begin);
+    weight.resize(end - begin);
+    for (unsigned int q = begin; q < end; ++q)
+      {
+        const Tensor<1, 3> a = slave_quad.area_normal(points[q].slave_xi);
+        weight[q - begin] = points[q].weight * a.norm() / std::abs(face.n0 * a);
+        phi[q - begin]    = BilinearQuad::shape_values(points[q].slave_xi);
+      }
+    FullMatrix<double> A(4, 4);
+    if (face.fully_covered)
+      A = dual_basis_coefficients(phi, weight);
+    else
+      for (unsigned int i = 0; i < 4; ++i)
+        A(i, i) = 1.;
+
+    // D^c_i = sum_q W_q phi_i(xi_q); per cell (one master face) the block
+    // sum_q W_q psi_i(xi_q) phi^m_l(eta_q) of M for the face's four slave
+    // nodes i and the master face's four nodes l.
+    for (unsigned int i = 0; i < 4; ++i)
+      for (unsigned int q = 0; q < end - begin; ++q)
+        accumulator.covered_D[face_nodes[i]] += weight[q] * phi[q][i];
+    for (unsigned int c = face.first_cell; c < face.end_cell; ++c)
+      {
+        double block[4][4] = {};
+        for (unsigned int q = cells[c].begin; q < cells[c].end; ++q)
+          {
+            const auto N_m = BilinearQuad::shape_values(points[q].master_xi);
+            for (unsigned int i = 0; i < 4; ++i)
+              {
+                double psi = 0;
+                for (unsigned int k = 0; k < 4; ++k)
+                  psi += A(i, k) * phi[q - begin][k];
+                for (unsigned int l = 0; l < 4; ++l)
+                  block[i][l] += weight[q - begin] * psi * N_m[l];
+              }
+          }
+        const auto &master_nodes = master.faces()[cells[c].master_face].nodes;
+        for (unsigned int i = 0; i < 4; ++i)
+          for (unsigned int l = 0; l < 4; ++l)
+            accumulator.rows[face_nodes[i]].emplace_back(master_nodes[l],
+                                                         block[i][l]);
+      }
+  }
+
+  // Per node: merge the row of M, scale it (and so the weighted gap) from
+  // the covered area D^c_j to the nodal area D_jj, decide whether the node
+  // is covered (the edge rule of the class documentation), and compute the
+  // weighted gap and the master point.
+  void
+  MortarCoupling::finish_nodes(const std::vector<Point<3>> &positions,
+                               const Tensor<2, 3>          &master_rotation,
+                               Accumulator                 &accumulator)
+  {
     const auto &master_nodes = master.nodes();
     const auto &slave_list   = slave.nodes();
     for (unsigned int j = 0; j < nodes.size(); ++j)
       {
-        SlaveNode &node = nodes[j];
-        node.covered    = true;
-        for (const unsigned int e : slave.node_faces()[j])
-          node.covered = node.covered && face_covered[e];
-        node.M.assign(M[j].begin(), M[j].end());
+        SlaveNode   &node      = nodes[j];
+        auto        &row       = accumulator.rows[j];
+        const double covered_D = accumulator.covered_D[j];
+        stats.covered_area += covered_D;
+        node.covered_fraction = covered_D / node.D;
+        node.master_normal    = transpose(master_rotation) * node.normal;
+
+        std::sort(row.begin(), row.end(), [](const auto &a, const auto &b) {
+          return a.first < b.first;
+        });
+        node.M.clear();
+        for (const auto &[k, value] : row)
+          if (!node.M.empty() && node.M.back().first == k)
+            node.M.back().second += value;
+          else
+            node.M.emplace_back(k, value);
+        if (!(covered_D > 0))
+          {
+            node.M.clear();
+            continue;
+          }
+        const double scale = node.D / covered_D;
+        for (auto &entry : node.M)
+          entry.second *= scale;
+
+        const bool fully = node.covered_fraction >= 1. - 1e-9;
+        node.covered     = fully || (accumulator.projects[j] &&
+                                 node.covered_fraction >= min_covered_fraction);
+        if (node.covered)
+          {
+            ++stats.n_covered_nodes;
+            if (!fully)
+              ++stats.n_partly_covered_nodes;
+          }
+        else
+          ++stats.n_uncovered_touched_nodes;
+
         Tensor<1, 3> mortar_difference =
           -node.D * positions[slave_list[j].vertex];
-        for (const auto &[k, value] : node.M)
-          mortar_difference += value * positions[master_nodes[k].vertex];
-        node.weighted_gap  = node.normal * mortar_difference;
-        node.master_normal = transpose(master_rotation) * node.normal;
-        double row_sum     = 0;
+        double row_sum = 0;
         for (const auto &[k, value] : node.M)
           {
-            row_sum += value;
+            mortar_difference += value * positions[master_nodes[k].vertex];
             node.master_point += value * positions[master_nodes[k].vertex];
+            row_sum += value;
           }
+        node.weighted_gap = node.normal * mortar_difference;
         if (row_sum != 0.)
           node.master_point /= row_sum;
-        if (node.covered)
-          ++stats.n_covered_nodes;
       }
   }
 } // namespace TKR::Mortar

@@ -9,7 +9,9 @@
 #include <deal.II/base/tensor.h>
 
 #include <tkr/mortar/contact_surface.h>
+#include <tkr/mortar/segment_quadrature.h>
 
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -24,10 +26,18 @@ namespace TKR::Mortar
    * g_j = n_j . (sum_k M_jk x_k - D_jj x_j) (mm^3), so that the linearised
    * non-penetration condition reads
    * g_j + n_j . (sum_k M_jk u_k - D_jj u_j) >= 0.
+   *
+   * Where the master surface covers only part of the node's support (at
+   * the edge of the master surface, or of the search distance), M_jk and
+   * g_j are integrated over the covered part only, consistently with its
+   * area (MortarCoupling explains the rule): then sum_k M_jk = D_jj and
+   * g_j / D_jj is the mean gap over the covered part, never a gap to
+   * a master surface that is not there.
    */
   struct SlaveNode
   {
-    /** D_jj in mm^2 (over the whole support, so sum_j D_jj = area). */
+    /** D_jj in mm^2: the nodal area, over the whole support (so
+     *  sum_j D_jj = slave area). */
     double D = 0;
     /** Nodal unit normal, pointing out of the slave body. */
     dealii::Tensor<1, 3> normal;
@@ -37,21 +47,26 @@ namespace TKR::Mortar
      * displacements are kept in its own (co-rotated) frame, else n_j.
      */
     dealii::Tensor<1, 3> master_normal;
-    /** Weighted gap g_j in mm^3; g_j / D_jj is a distance (mm). */
+    /** Weighted gap g_j in mm^3; g_j / D_jj is a distance (mm): the mean
+     *  gap over the covered part of the support. */
     double weighted_gap = 0;
     /**
      * The master point that node j touches, sum_k M_jk x_k / sum_k M_jk
      * (current positions): the mortar projection of the node.
      */
     dealii::Point<3> master_point;
-    /** (master node, M_jk) pairs. */
+    /** (master node, M_jk) pairs, sorted by master node; their sum is
+     *  D_jj if any part of the support is covered. */
     std::vector<std::pair<unsigned int, double>> M;
     /**
-     * True if every point of the node's support projects onto the master
-     * surface. Only such nodes may become active: on the others D, M and
-     * the gap would not be integrated over the same area.
+     * True if the node may become active: its whole support is covered by
+     * projections of master faces, or the node itself projects onto the
+     * master surface and at least MortarCoupling::min_covered_fraction of
+     * its support is covered.
      */
     bool covered = false;
+    /** The covered part of the support: int_covered phi_j / D_jj (0..1). */
+    double covered_fraction = 0;
   };
 
   /**
@@ -62,32 +77,84 @@ namespace TKR::Mortar
     unsigned int n_slave_faces = 0, n_master_faces = 0;
     /** Slave-master face pairs that were tested (after the tree search). */
     unsigned int n_candidate_pairs = 0;
-    /** Pairs whose projections overlap, integration cells. */
+    /** Pairs whose projections overlap: integration cells. */
     unsigned int n_overlapping_pairs = 0;
-    unsigned int n_covered_nodes     = 0;
-    /** Slave area (mm^2) and the part of it that projects onto the master. */
+    /** Slave faces with at least one integration cell. */
+    unsigned int n_integrated_faces = 0;
+    /** Slave faces covered entirely, partly, and more than once (a master
+     *  surface folded over itself as seen from the face: left out). */
+    unsigned int n_fully_covered_faces = 0, n_partly_covered_faces = 0,
+                 n_overcovered_faces = 0;
+    /** Slave faces whose projection onto their own plane is not convex
+     *  (left out), and candidate pairs left out because the master face's
+     *  projection is not convex or a point could not be mapped back. */
+    unsigned int n_invalid_faces = 0, n_rejected_pairs = 0;
+    /** Faces (slave, and master ones on a flat interface) whose shape
+     *  functions the quadrature weights were fitted to integrate exactly,
+     *  and the largest remaining relative error of such an integral (1 if
+     *  the fitting was refused). */
+    unsigned int n_fitted_faces = 0;
+    double       fitting_error  = 0;
+    /** Quadrature points of all integration cells. */
+    unsigned int n_quadrature_points = 0;
+    /** Nodes that may become active; of them, those whose support is only
+     *  partly covered; nodes with some coverage that may not. */
+    unsigned int n_covered_nodes = 0, n_partly_covered_nodes = 0,
+                 n_uncovered_touched_nodes = 0;
+    /** Slave area (mm^2) and the part of it that the projections of the
+     *  master faces cover (integrated on the slave surface). */
     double slave_area = 0, covered_area = 0;
   };
 
   /**
    * Dual-basis mortar coupling between a slave and a master surface
-   * (DESIGN.md section 4.3), with segment-based integration:
+   * (DESIGN.md section 4.3) by segment-based integration in auxiliary
+   * planes (Puso & Laursen 2004; Popp, Gee & Wall 2009, 2010):
    *
-   * For every slave face, the master faces near it are found with an R-tree
-   * of bounding boxes (O(N log N)). Each candidate master face is projected
-   * along the slave face's centre normal into the slave face's parameter
-   * square, clipped against it (Sutherland-Hodgman), and the overlap polygon
-   * is split into triangles on which a Gauss rule is used. At every
-   * quadrature point the slave point is projected back onto the master
-   * face along the same direction, and psi_j(xi_s) phi_k(xi_m) is
-   * integrated with the true slave surface element. D is integrated over
-   * the whole slave face with the (biorthogonal, hence diagonal) dual
-   * basis; nodes whose support is not fully covered by master projections
-   * are flagged as not covered.
+   * For every slave face an auxiliary plane is laid through its centre,
+   * normal to the average of its nodal normals. The master faces near it
+   * are found with an R-tree of bounding boxes (O(N log N)); each one that
+   * faces the slave face and lies within the search distance is projected
+   * onto the plane along that normal, together with the slave face, and
+   * the two convex quadrilaterals are clipped (Sutherland-Hodgman). The
+   * clip polygon is an integration cell, with the quadrature of
+   * CellQuadrature: its points are mapped back onto the slave and the
+   * master face by the inverse of their projected bilinear maps, the
+   * weights integrate the shape functions of fully covered slave faces (and
+   * on a flat interface of the master faces) exactly, and they are
+   * multiplied by the ratio of the slave surface element to the plane's,
+   * so that the integrals are over the true slave surface. Coverage is
+   * measured in the plane, the same way for D, M and the gap.
+   *
+   * On a fully covered slave face the test functions are the dual basis
+   * psi_i = sum_k A_ik phi_k with A = D_e M_e^{-1} from that same
+   * quadrature (so that biorthogonality, sum_k M_jk = D_jj and the exact
+   * reproduction of linear fields hold to round-off). On a partly covered
+   * face (the edge of the master surface) they are the standard shape
+   * functions phi_i, which are positive: g_j / D_jj is then a true
+   * (positively weighted) mean of the gap over the covered part, never an
+   * extrapolation. Each node's row is integrated over the covered part of
+   * its support (area D^c_j = int_covered phi_j) and then scaled by
+   * D_jj / D^c_j, a positive scaling of the node's constraint that does
+   * not change the discrete contact problem but keeps D_jj the nodal area.
+   *
+   * Edge rule: a node may become active (covered) if its whole support is
+   * covered, or if the node itself projects onto an (accepted) master face
+   * and at least min_covered_fraction of its support is covered. As in
+   * 4C/BACI (a slave node needs a feasible projection, "HasProj"), nodes
+   * outside the master surface are never active, and nodes inside it are
+   * never dropped, however little of their support is covered.
    */
   class MortarCoupling
   {
   public:
+    /**
+     * Nodes that project onto the master surface but have less than this
+     * part of their support covered are not covered (a guard against
+     * round-off slivers; see the edge rule above).
+     */
+    static constexpr double min_covered_fraction = 1e-3;
+
     MortarCoupling(const ContactSurface &slave, const ContactSurface &master);
 
     /**
@@ -126,8 +193,58 @@ namespace TKR::Mortar
     }
 
   private:
+    struct MasterGeometry;
+    struct Accumulator;
+    struct SlaveProjection;
+
+    /** D_jj (nodal areas) and nodal normals over the whole slave surface. */
+    void
+    compute_nodal_areas_and_normals(
+      const std::vector<dealii::Point<3>> &positions);
+
+    /** Slave face @p e projected onto its auxiliary plane; false if the
+     *  projection is not convex. */
+    bool
+    project_slave_face(const unsigned int                   e,
+                       const std::vector<dealii::Point<3>> &positions,
+                       std::optional<SlaveProjection>      &projection);
+
+    /** The integration cells of slave face @p e, with Gauss points. */
+    void
+    make_cells(const unsigned int                   e,
+               const std::vector<dealii::Point<3>> &positions,
+               const MasterGeometry                &master_faces,
+               const double                         search_distance,
+               Accumulator                         &accumulator);
+
+    /** The integration cell of slave face @p e and master face @p m. */
+    void
+    make_cell(const unsigned int     e,
+              const unsigned int     m,
+              const SlaveProjection &slave_face,
+              const MasterGeometry  &master_faces,
+              const double           search_distance,
+              Accumulator           &accumulator);
+
+    /** Fit the weights of the points to exact face integrals. */
+    void
+    fit_weights(Accumulator &accumulator);
+
+    /** The contributions of slave face @p e to D and M. */
+    void
+    assemble_face(const unsigned int                   e,
+                  const std::vector<dealii::Point<3>> &positions,
+                  Accumulator                         &accumulator);
+
+    /** Rows of M, the edge rule, weighted gaps, master points. */
+    void
+    finish_nodes(const std::vector<dealii::Point<3>> &positions,
+                 const dealii::Tensor<2, 3>          &master_rotation,
+                 Accumulator                         &accumulator);
+
     const ContactSurface  &slave;
     const ContactSurface  &master;
+    const CellQuadrature   cell_quadrature;
     std::vector<SlaveNode> nodes;
     CouplingStatistics     stats;
   };

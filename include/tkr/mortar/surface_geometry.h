@@ -12,12 +12,14 @@
 
 /**
  * Geometry of bilinear surface quadrilaterals for the mortar method: the
- * map from the unit square, projections along a direction, and clipping of
- * polygons in the unit square.
+ * map from the unit square, the auxiliary plane of a slave face, the
+ * projection of a face onto that plane (a plane bilinear map and its
+ * inverse) and the clipping of plane polygons.
  */
 namespace TKR::Mortar
 {
-  /** A point of the unit square [0,1]^2 (face parameter space). */
+  /** A point of the unit square [0,1]^2 (face parameter space) or of a plane.
+   */
   using Point2 = dealii::Point<2>;
 
   /**
@@ -43,35 +45,102 @@ namespace TKR::Mortar
     /** Not normalised normal dx/dxi_0 x dx/dxi_1; its length is dA/dxi. */
     dealii::Tensor<1, 3>
     area_normal(const Point2 &xi) const;
-
-    /**
-     * Find xi and beta with x(xi) + beta * direction = p (Newton's method
-     * on the 3x3 system). Returns false if Newton fails to converge or
-     * the direction is (nearly) tangent to the face. xi may lie outside the
-     * unit square: the caller decides what to accept.
-     */
-    bool
-    project(const dealii::Point<3>     &p,
-            const dealii::Tensor<1, 3> &direction,
-            Point2                     &xi,
-            double                     &beta) const;
   };
 
-  /** A polygon in the face parameter plane, counter-clockwise. */
+  /** A polygon in a plane (counter-clockwise unless stated). */
   using Polygon = std::vector<Point2>;
+
+  /**
+   * The auxiliary plane of a slave face (Puso & Laursen 2004; Popp et al.
+   * 2010): through the face centre x_0, with unit normal n_0 (the averaged
+   * nodal normal of the face). Points are projected onto it along n_0; a
+   * point x has the in-plane coordinates ((x - x_0) . t_1, (x - x_0) . t_2)
+   * with an orthonormal tangent pair t_1 x t_2 = n_0, and the height
+   * (x - x_0) . n_0 above it (mm).
+   */
+  class AuxiliaryPlane
+  {
+  public:
+    AuxiliaryPlane(const dealii::Point<3>     &centre,
+                   const dealii::Tensor<1, 3> &unit_normal);
+
+    Point2
+    coordinates(const dealii::Point<3> &x) const;
+
+    double
+    height(const dealii::Point<3> &x) const;
+
+    const dealii::Tensor<1, 3> &
+    normal() const
+    {
+      return n;
+    }
+
+  private:
+    dealii::Point<3>     centre;
+    dealii::Tensor<1, 3> n, t1, t2;
+  };
+
+  /**
+   * A bilinear quadrilateral in a plane: the projection of a face onto an
+   * auxiliary plane, $p(\xi) = \sum_i N_i(\xi) p_i$. Its Jacobian
+   * determinant is linear in xi, $j_0 + j_1 \xi_0 + j_2 \xi_1$ (positive
+   * for a counter-clockwise outline 0, 1, 3, 2).
+   */
+  struct PlaneQuad
+  {
+    std::array<Point2, 4> vertices;
+
+    Point2
+    point(const Point2 &xi) const;
+
+    /** dp/dxi: column c is dp/dxi_c. */
+    dealii::Tensor<2, 2>
+    jacobian(const Point2 &xi) const;
+
+    /** (j_0, j_1, j_2) of the determinant above. */
+    std::array<double, 3>
+    determinant_coefficients() const;
+
+    /**
+     * The parameters xi with p(xi) = @p p by Newton's method, from @p xi as
+     * given if @p use_guess, else from the affine approximation at the
+     * centre (xi may lie slightly outside the unit square for points on its
+     * edges). If @p inverse is given, also the inverse Jacobian at xi.
+     * False if Newton's method does not converge.
+     */
+    bool
+    inverse(const Point2         &p,
+            Point2               &xi,
+            dealii::Tensor<2, 2> *inverse   = nullptr,
+            const bool            use_guess = false) const;
+
+    /** The outline p_0, p_1, p_3, p_2. */
+    Polygon
+    outline() const;
+
+    /**
+     * +1 (-1) if the quadrilateral is strictly convex and its outline is
+     * counter-clockwise (clockwise), 0 if it is not convex or degenerate:
+     * only then is the map one-to-one, so that every point of the outline
+     * comes from exactly one point of the face.
+     */
+    int
+    convex_orientation() const;
+  };
 
   /** Signed area (positive if counter-clockwise). */
   double
   signed_area(const Polygon &polygon);
 
   /**
-   * Intersection of a simple @p polygon with the unit square
-   * (Sutherland-Hodgman; exact for convex polygons, which the projected
-   * faces of a reasonable mesh are). The result is counter-clockwise; empty
-   * if they do not overlap.
+   * Intersection of a convex polygon @p subject with a convex,
+   * counter-clockwise polygon @p clip (Sutherland-Hodgman, one half plane
+   * of the clip polygon after the other). The result is counter-clockwise,
+   * without repeated vertices; empty if the polygons do not overlap.
    */
   Polygon
-  clip_to_unit_square(const Polygon &polygon);
+  clip_polygon(const Polygon &subject, const Polygon &clip);
 } // namespace TKR::Mortar
 
 #endif
