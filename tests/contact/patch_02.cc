@@ -101,8 +101,8 @@ main(int argc, char **argv)
   Mortar::MortarCoupling       coupling(slave, master);
   coupling.reinit(triangulation.get_vertices(), 1.);
 
-  ConditionalOStream       silent(std::cout, false);
-  Contact::ActiveSetSolver solver(elasticity,
+  ConditionalOStream        silent(std::cout, false);
+  Contact::ActiveSetSolver  solver(elasticity,
                                   coupling,
                                   contact,
                                   materials.tibia.youngs_modulus,
