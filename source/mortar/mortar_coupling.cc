@@ -83,8 +83,8 @@ namespace TKR::Mortar
     std::array<double, 3>
     plane_moments(const std::array<double, 3> &j)
     {
-      const QGauss<2>       gauss(2);
-      std::array<double, 3> result{};
+      static const QGauss<2> gauss(2);
+      std::array<double, 3>  result{};
       for (unsigned int q = 0; q < gauss.size(); ++q)
         {
           const Point<2> &x = gauss.point(q);
@@ -195,6 +195,65 @@ namespace TKR::Mortar
     }
   };
 
+  /**
+   * A slave face in its auxiliary plane: the plane, the face's projection
+   * and its outline (counter-clockwise), its area and box in the plane, and
+   * the range of its vertices' heights above the plane.
+   */
+  struct MortarCoupling::SlaveProjection
+  {
+    AuxiliaryPlane plane;
+    PlaneQuad      quad;
+    Polygon        outline;
+    double         area, min_height, max_height;
+    BoundingBox<2> box;
+  };
+
+  /** The slave-side data of the last slave geometry. */
+  struct MortarCoupling::SlaveCache
+  {
+    /** The slave vertices' positions this data is for. */
+    std::vector<Point<3>> positions;
+    /** Nodal areas and normals, and the slave area. */
+    std::vector<double>       D;
+    std::vector<Tensor<1, 3>> normal;
+    double                    area = 0;
+    /** Each face's projection onto its plane (empty if not convex) and the
+     *  exact integrals of its shape functions there. */
+    std::vector<std::optional<SlaveProjection>> projections;
+    std::vector<std::array<double, 3>>          exact;
+  };
+
+  void
+  MortarCoupling::update_slave_cache(const std::vector<Point<3>> &positions)
+  {
+    const auto &slave_nodes = slave.nodes();
+    bool        unchanged   = slave_cache != nullptr;
+    for (unsigned int j = 0; unchanged && j < slave_nodes.size(); ++j)
+      unchanged = slave_cache->positions[j] == positions[slave_nodes[j].vertex];
+    if (unchanged)
+      return;
+
+    slave_cache = std::make_shared<SlaveCache>();
+    for (const auto &node : slave_nodes)
+      slave_cache->positions.push_back(positions[node.vertex]);
+    nodes.assign(slave_nodes.size(), SlaveNode());
+    compute_nodal_areas_and_normals(positions);
+    for (const auto &node : nodes)
+      {
+        slave_cache->D.push_back(node.D);
+        slave_cache->normal.push_back(node.normal);
+      }
+    slave_cache->area          = stats.slave_area;
+    const unsigned int n_faces = slave.faces().size();
+    slave_cache->projections.resize(n_faces);
+    slave_cache->exact.resize(n_faces);
+    for (unsigned int e = 0; e < n_faces; ++e)
+      if (project_slave_face(e, positions, slave_cache->projections[e]))
+        slave_cache->exact[e] = plane_moments(
+          slave_cache->projections[e]->quad.determinant_coefficients());
+  }
+
   MortarCoupling::MortarCoupling(const ContactSurface &slave,
                                  const ContactSurface &master)
     : slave(slave)
@@ -210,12 +269,17 @@ namespace TKR::Mortar
                          const double                 search_distance,
                          const Tensor<2, 3>          &master_rotation)
   {
+    update_slave_cache(positions);
     nodes.assign(slave.nodes().size(), SlaveNode());
+    for (unsigned int j = 0; j < nodes.size(); ++j)
+      {
+        nodes[j].D      = slave_cache->D[j];
+        nodes[j].normal = slave_cache->normal[j];
+      }
     stats                = CouplingStatistics();
+    stats.slave_area     = slave_cache->area;
     stats.n_slave_faces  = slave.faces().size();
     stats.n_master_faces = master.faces().size();
-
-    compute_nodal_areas_and_normals(positions);
 
     const MasterGeometry master_faces(master, positions);
     Accumulator          accumulator;
@@ -264,20 +328,6 @@ namespace TKR::Mortar
         stats.slave_area += node.D;
       }
   }
-
-  /**
-   * A slave face in its auxiliary plane: the plane, the face's projection
-   * and its outline (counter-clockwise), its area and box in the plane, and
-   * the range of its vertices' heights above the plane.
-   */
-  struct MortarCoupling::SlaveProjection
-  {
-    AuxiliaryPlane plane;
-    PlaneQuad      quad;
-    Polygon        outline;
-    double         area, min_height, max_height;
-    BoundingBox<2> box;
-  };
 
   // The plane: normal to the averaged nodal normal, or to the face's own
   // normal where that is more than 60 degrees away or where the face's
@@ -343,15 +393,16 @@ namespace TKR::Mortar
   {
     auto &face      = accumulator.faces[e];
     face.first_cell = face.end_cell = accumulator.cells.size();
-    std::optional<SlaveProjection> projection;
-    if (!project_slave_face(e, positions, projection))
+    const std::optional<SlaveProjection> &projection =
+      slave_cache->projections[e];
+    if (!projection)
       {
         ++stats.n_invalid_faces;
         return;
       }
     face.n0         = projection->plane.normal();
     face.plane_area = projection->area;
-    face.exact = plane_moments(projection->quad.determinant_coefficients());
+    face.exact      = slave_cache->exact[e];
 
     find_candidates(master_faces.tree,
                     slave.face_vertices(e, positions),

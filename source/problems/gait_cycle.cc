@@ -121,8 +121,8 @@ namespace TKR::Problems
   {
     std::vector<Point<3>> positions = model.geometry.vertex_positions();
     for (unsigned int v = 0; v < positions.size(); ++v)
-      positions[v] = is_femur_vertex[v] ? femur_motion(positions[v]) :
-                                          positions[v] + tibia_translation;
+      if (is_femur_vertex[v])
+        positions[v] = femur_motion(positions[v]) - tibia_translation;
     return positions;
   }
 
@@ -196,10 +196,8 @@ namespace TKR::Problems
     };
     const Gait::PoseIteration iteration = tibia_pose->iterate(pose, solve);
 
-    // The record holds the tibia's full displacement (pose plus elastic).
-    records[step] = Wear::make_step_record(*model.coupling, state, motion);
-    for (auto &u : records[step].displacement)
-      u += pose.translation;
+    records[step] =
+      Wear::make_step_record(*model.coupling, state, motion, pose.translation);
     Wear::StepReport &report = reports[step];
     report.percent           = gait.percent;
     report.flexion           = gait.flexion;

@@ -12,7 +12,8 @@ namespace TKR::Wear
   StepRecord
   make_step_record(const Mortar::MortarCoupling &coupling,
                    const Contact::ContactState  &state,
-                   const Gait::RigidMotion      &femur_motion)
+                   const Gait::RigidMotion      &femur_motion,
+                   const Tensor<1, 3>           &tibia_translation)
   {
     const auto        &nodes = coupling.slave_nodes();
     const unsigned int n     = nodes.size();
@@ -26,11 +27,14 @@ namespace TKR::Wear
       {
         record.normal[j] = nodes[j].normal;
         if (j < state.displacement.size())
-          record.displacement[j] = state.displacement[j];
+          record.displacement[j] = state.displacement[j] + tibia_translation;
+        else
+          record.displacement[j] = tibia_translation;
         if (j < state.active.size() && state.active[j])
           {
-            record.pressure[j]    = std::max(0., state.pressure[j]);
-            record.femur_point[j] = femur_motion.inverse(nodes[j].master_point);
+            record.pressure[j] = std::max(0., state.pressure[j]);
+            record.femur_point[j] =
+              femur_motion.inverse(nodes[j].master_point + tibia_translation);
           }
       }
     return record;

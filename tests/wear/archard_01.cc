@@ -43,8 +43,12 @@ main(int argc, char **argv)
   const std::vector<Wear::StepRecord> steps = {
     Wear::make_step_record(problem.get_coupling(),
                            problem.get_state(),
-                           at_rest),
-    Wear::make_step_record(problem.get_coupling(), problem.get_state(), slid)};
+                           at_rest,
+                           Tensor<1, 3>()),
+    Wear::make_step_record(problem.get_coupling(),
+                           problem.get_state(),
+                           slid,
+                           Tensor<1, 3>())};
   std::vector<double> slip;
   const auto          depth  = Wear::cycle_wear_depth(steps, k, &slip);
   const double        volume = Wear::worn_volume(depth, problem.get_coupling());

@@ -11,6 +11,7 @@
 #include <tkr/mortar/contact_surface.h>
 #include <tkr/mortar/segment_quadrature.h>
 
+#include <memory>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -196,6 +197,17 @@ namespace TKR::Mortar
     struct MasterGeometry;
     struct Accumulator;
     struct SlaveProjection;
+    struct SlaveCache;
+
+    /**
+     * What depends on the slave surface alone (nodal areas and normals, the
+     * faces' auxiliary planes and projections): computed again only when
+     * the slave vertices moved since the last call. In the gait the tibia
+     * stays put within a block (the femur moves relative to it), so this
+     * is computed once per block.
+     */
+    void
+    update_slave_cache(const std::vector<dealii::Point<3>> &positions);
 
     /** D_jj (nodal areas) and nodal normals over the whole slave surface. */
     void
@@ -247,6 +259,8 @@ namespace TKR::Mortar
     const CellQuadrature   cell_quadrature;
     std::vector<SlaveNode> nodes;
     CouplingStatistics     stats;
+    /** The slave-side data of update_slave_cache(). */
+    std::shared_ptr<SlaveCache> slave_cache;
   };
 } // namespace TKR::Mortar
 

@@ -127,8 +127,11 @@ namespace TKR::Problems
                const bool         keep_for_output);
 
     /**
-     * The vertex positions of a step: the femur's moved by @p femur_motion,
-     * the tibia's translated by @p tibia_pose.
+     * The vertex positions of a step in the tibia's frame: the femur's
+     * moved by @p femur_motion and back by the tibia's pose @p tibia_pose,
+     * the tibia's where they are. The gaps are those of the moved bodies,
+     * and the slave side of the mortar coupling stays the same within a
+     * block (MortarCoupling keeps it).
      */
     std::vector<dealii::Point<3>>
     step_positions(const Gait::RigidMotion    &femur_motion,

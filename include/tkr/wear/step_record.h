@@ -43,14 +43,17 @@ namespace TKR::Wear
   };
 
   /**
-   * The record of a contact solve: pressures of the active nodes, and as
-   * femur material point the mortar projection of each node mapped back
-   * through the femur's motion.
+   * The record of a contact solve: pressures of the active nodes, the
+   * tibia's displacement (elastic plus @p tibia_translation, its pose), and
+   * as femur material point the mortar projection of each node mapped back
+   * through the femur's motion. The coupling is in the tibia's frame: the
+   * femur was moved by @p femur_motion and then by -@p tibia_translation.
    */
   StepRecord
   make_step_record(const Mortar::MortarCoupling &coupling,
                    const Contact::ContactState  &state,
-                   const Gait::RigidMotion      &femur_motion);
+                   const Gait::RigidMotion      &femur_motion,
+                   const dealii::Tensor<1, 3>   &tibia_translation);
 
   /** What one gait step did (for the screen and steps.csv). */
   struct StepReport
