@@ -94,13 +94,29 @@ namespace TKR::Contact
 
     // The sparsity pattern holds the couplings of every node that may
     // become active, so that the matrix can be reused when the set changes.
+    // The constraint lines that can change are those of the covered slave
+    // nodes; only the cells that hold one are assembled again in each
+    // Newton step (LinearElasticity::assemble_changing_cells()). The
+    // multipliers need the residual only at the slave DoFs.
+    AffineConstraints<double> all_covered_constraints;
+    IndexSet changing_dofs(elasticity.get_dof_handler().n_dofs());
+    IndexSet slave_dofs(elasticity.get_dof_handler().n_dofs());
     {
       std::vector<bool> all_covered(n_slave);
       for (unsigned int j = 0; j < n_slave; ++j)
         all_covered[j] = nodes[j].covered;
-      AffineConstraints<double> constraints;
-      make_constraints(B, all_covered, constraints);
-      elasticity.setup_system(constraints);
+      make_constraints(B, all_covered, all_covered_constraints);
+      elasticity.setup_system(all_covered_constraints);
+      const auto &dofs = B.surface_dofs();
+      for (unsigned int j = 0; j < n_slave; ++j)
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            slave_dofs.add_index(dofs[3 * j + d]);
+            if (nodes[j].covered && !dirichlet.is_constrained(dofs[3 * j + d]))
+              changing_dofs.add_index(dofs[3 * j + d]);
+          }
+      slave_dofs.compress();
+      changing_dofs.compress();
     }
 
     start_state(coupling, initial_distance, state);
@@ -118,7 +134,14 @@ namespace TKR::Contact
       {
         Timer iteration_timer;
         make_constraints(B, state.active, constraints);
-        elasticity.assemble_system(mapping, constraints, loads);
+        if (iteration == 1)
+          elasticity.assemble_fixed_cells(mapping,
+                                          constraints,
+                                          loads,
+                                          changing_dofs,
+                                          all_covered_constraints);
+        else
+          elasticity.assemble_changing_cells(mapping, constraints, loads);
         const bool fresh_preconditioner = rebuild_preconditioner;
         // The AMG hierarchy of the first iteration stays a good
         // preconditioner while only some constraint rows change: it is
@@ -133,7 +156,7 @@ namespace TKR::Contact
         statistics.relative_residual = linear.relative_residual;
         statistics.newton_iterations = iteration;
 
-        elasticity.compute_residual(mapping, loads, residual);
+        elasticity.compute_residual(mapping, loads, slave_dofs, residual);
         const std::vector<double> r = gather(B, residual);
         const std::vector<double> u = gather(B, elasticity.get_solution());
 

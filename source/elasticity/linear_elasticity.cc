@@ -17,6 +17,8 @@
 #include <tkr/elasticity/rigid_body_modes.h>
 #include <tkr/mesh/mesh.h>
 
+#include <Epetra_CrsMatrix.h>
+#include <Epetra_FEVector.h>
 #include <Teuchos_ParameterList.hpp>
 
 #include <algorithm>
@@ -156,6 +158,9 @@ namespace TKR::Elasticity
             if (owned_dofs.is_element(row))
               dsp.add_entries(row, coupled.begin(), coupled.end(), true);
         }
+    changing_cell.clear();
+    kept_rows.clear();
+    kept_values.clear();
     system_matrix.reinit(owned_dofs, owned_dofs, dsp, mpi_communicator);
     system_rhs.reinit(owned_dofs, mpi_communicator);
     solution.reinit(owned_dofs, relevant_dofs, mpi_communicator);
@@ -253,7 +258,10 @@ namespace TKR::Elasticity
                              const FullMatrix<double> &,
                              Vector<double> &,
                              const std::vector<types::global_dof_index> &)>
-      &use) const
+      &use,
+    const std::function<bool(const DoFHandler<3>::active_cell_iterator &,
+                             const std::vector<types::global_dof_index> &)>
+      &select) const
   {
     FEValues<3>        fe_values(mapping,
                           fe,
@@ -270,13 +278,15 @@ namespace TKR::Elasticity
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
+          cell->get_dof_indices(dof_indices);
+          if (select && !select(cell, dof_indices))
+            continue;
           local_assemble(cell,
                          fe_values,
                          fe_face_values,
                          loads,
                          cell_matrix,
                          cell_rhs);
-          cell->get_dof_indices(dof_indices);
           use(cell, cell_matrix, cell_rhs, dof_indices);
         }
   }
@@ -305,6 +315,153 @@ namespace TKR::Elasticity
                                                                   system_matrix,
                                                                   system_rhs);
                          });
+    system_matrix.compress(VectorOperation::add);
+    system_rhs.compress(VectorOperation::add);
+  }
+
+  // A Newton step of the contact solver changes only the constraint lines
+  // of slave DoFs; the condensation of a cell's matrix
+  // (distribute_local_to_global) depends only on the lines of the cell's
+  // own DoFs. So the contributions of all cells without a slave DoF stay,
+  // and a cell with one adds only to its own rows and to the rows of the
+  // DoFs its constraints refer to (master and neighbouring slave DoFs):
+  // these rows are kept here as the other cells leave them, and restored
+  // before the changing cells are added again. That replaces a full
+  // assembly per Newton step by one of the contact layer (a few per cent
+  // of the cells).
+  void
+  LinearElasticity::assemble_fixed_cells(
+    const Mapping<3>                &mapping,
+    const AffineConstraints<double> &constraints,
+    const BoundaryLoads             &loads,
+    const IndexSet                  &changing_dofs,
+    const AffineConstraints<double> &all_constraints)
+  {
+    {
+      TimerOutput::Scope scope(timer, "assemble system");
+      const auto         has_changing_dof =
+        [&](const std::vector<types::global_dof_index> &dofs) {
+          return std::any_of(dofs.begin(), dofs.end(), [&](const auto i) {
+            return changing_dofs.is_element(i);
+          });
+        };
+
+      // The changing cells and the rows they can reach, over all cells
+      // that this rank knows (their owners may be other ranks).
+      changing_cell.assign(dof_handler.get_triangulation().n_active_cells(),
+                           false);
+      std::vector<types::global_dof_index> dof_indices(fe.n_dofs_per_cell());
+      std::vector<types::global_dof_index> reached;
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (!cell->is_artificial())
+          {
+            cell->get_dof_indices(dof_indices);
+            if (!has_changing_dof(dof_indices))
+              continue;
+            changing_cell[cell->active_cell_index()] = true;
+            for (const auto i : dof_indices)
+              {
+                reached.push_back(i);
+                if (const auto *entries =
+                      all_constraints.get_constraint_entries(i))
+                  for (const auto &entry : *entries)
+                    reached.push_back(entry.first);
+              }
+          }
+      std::sort(reached.begin(), reached.end());
+      reached.erase(std::unique(reached.begin(), reached.end()), reached.end());
+
+      system_matrix = 0;
+      system_rhs    = 0;
+      for_each_cell_system(
+        mapping,
+        loads,
+        [&](const auto &,
+            const auto &cell_matrix,
+            auto       &cell_rhs,
+            const auto &dofs) {
+          constraints.distribute_local_to_global(cell_matrix,
+                                                 cell_rhs,
+                                                 dofs,
+                                                 system_matrix,
+                                                 system_rhs);
+        },
+        [&](const auto &cell, const auto &) {
+          return !changing_cell[cell->active_cell_index()];
+        });
+      system_matrix.compress(VectorOperation::add);
+      system_rhs.compress(VectorOperation::add);
+
+      const Epetra_CrsMatrix &matrix = system_matrix.trilinos_matrix();
+      const Epetra_FEVector  &rhs    = system_rhs.trilinos_vector();
+      kept_rows.clear();
+      kept_values.clear();
+      for (const auto row : reached)
+        if (owned_dofs.is_element(row))
+          {
+            const auto global =
+              static_cast<TrilinosWrappers::types::int_type>(row);
+            KeptRow kept;
+            kept.matrix_row   = matrix.RowMap().LID(global);
+            kept.vector_entry = rhs.Map().LID(global);
+            kept.first_value  = kept_values.size();
+            kept.rhs          = rhs[0][kept.vector_entry];
+            int     n_entries;
+            double *values;
+            matrix.ExtractMyRowView(kept.matrix_row, n_entries, values);
+            kept_values.insert(kept_values.end(), values, values + n_entries);
+            kept_rows.push_back(kept);
+          }
+    }
+    assemble_changing_cells(mapping, constraints, loads);
+  }
+
+  void
+  LinearElasticity::assemble_changing_cells(
+    const Mapping<3>                &mapping,
+    const AffineConstraints<double> &constraints,
+    const BoundaryLoads             &loads)
+  {
+    TimerOutput::Scope scope(timer, "assemble system");
+    Assert(!changing_cell.empty(),
+           ExcMessage("Call assemble_fixed_cells() first."));
+    // Epetra hands out writable views of a filled matrix's rows (also
+    // through a const reference); the pattern is the one of the kept
+    // values.
+    const Epetra_CrsMatrix &matrix = system_matrix.trilinos_matrix();
+    Epetra_FEVector        &rhs    = system_rhs.trilinos_vector();
+    for (std::size_t k = 0; k < kept_rows.size(); ++k)
+      {
+        const KeptRow &kept = kept_rows[k];
+        int            n_entries;
+        double        *values;
+        matrix.ExtractMyRowView(kept.matrix_row, n_entries, values);
+        const std::size_t end =
+          (k + 1 < kept_rows.size() ? kept_rows[k + 1].first_value :
+                                      kept_values.size());
+        AssertDimension(static_cast<std::size_t>(n_entries),
+                        end - kept.first_value);
+        std::copy(kept_values.begin() + kept.first_value,
+                  kept_values.begin() + end,
+                  values);
+        rhs[0][kept.vector_entry] = kept.rhs;
+      }
+    for_each_cell_system(
+      mapping,
+      loads,
+      [&](const auto &,
+          const auto &cell_matrix,
+          auto       &cell_rhs,
+          const auto &dofs) {
+        constraints.distribute_local_to_global(cell_matrix,
+                                               cell_rhs,
+                                               dofs,
+                                               system_matrix,
+                                               system_rhs);
+      },
+      [&](const auto &cell, const auto &) {
+        return changing_cell[cell->active_cell_index()];
+      });
     system_matrix.compress(VectorOperation::add);
     system_rhs.compress(VectorOperation::add);
   }
@@ -348,20 +505,41 @@ namespace TKR::Elasticity
     const BoundaryLoads           &loads,
     TrilinosWrappers::MPI::Vector &residual) const
   {
+    compute_residual(mapping,
+                     loads,
+                     complete_index_set(dof_handler.n_dofs()),
+                     residual);
+  }
+
+  void
+  LinearElasticity::compute_residual(
+    const Mapping<3>              &mapping,
+    const BoundaryLoads           &loads,
+    const IndexSet                &rows,
+    TrilinosWrappers::MPI::Vector &residual) const
+  {
     TimerOutput::Scope scope(timer, "residual");
+    const bool         all_rows = (rows.n_elements() == dof_handler.n_dofs());
     residual.reinit(owned_dofs, mpi_communicator);
     Vector<double> cell_u(fe.n_dofs_per_cell()), cell_Ku(fe.n_dofs_per_cell());
-    for_each_cell_system(mapping,
-                         loads,
-                         [&](const auto &cell,
-                             const auto &cell_matrix,
-                             auto       &cell_rhs,
-                             const auto &dofs) {
-                           cell->get_dof_values(solution, cell_u);
-                           cell_matrix.vmult(cell_Ku, cell_u);
-                           cell_rhs -= cell_Ku;
-                           residual.add(dofs, cell_rhs);
-                         });
+    for_each_cell_system(
+      mapping,
+      loads,
+      [&](const auto &cell,
+          const auto &cell_matrix,
+          auto       &cell_rhs,
+          const auto &dofs) {
+        cell->get_dof_values(solution, cell_u);
+        cell_matrix.vmult(cell_Ku, cell_u);
+        cell_rhs -= cell_Ku;
+        residual.add(dofs, cell_rhs);
+      },
+      [&](const auto &, const auto &dofs) {
+        return all_rows ||
+               std::any_of(dofs.begin(), dofs.end(), [&](const auto i) {
+                 return rows.is_element(i);
+               });
+      });
     residual.compress(VectorOperation::add);
   }
 

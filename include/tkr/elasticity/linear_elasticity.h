@@ -137,6 +137,40 @@ namespace TKR::Elasticity
                     const BoundaryLoads                     &loads);
 
     /**
+     * The first half of a split assembly, for a sequence of systems whose
+     * constraints differ only on the DoFs @p changing_dofs (the contact
+     * constraints of an active set; the loads, the mapping and all other
+     * constraints stay). Every cell without such a DoF is assembled with
+     * @p constraints, once; the values of the rows that the other cells
+     * can add to (their DoFs and every DoF the lines of @p
+     * all_constraints make these depend on) are kept.
+     * assemble_changing_cells() then completes the system for any
+     * constraints of the sequence. @p all_constraints holds every line
+     * the sequence may use (the sparsity pattern was built for it); call
+     * this again after setup_system().
+     */
+    void
+    assemble_fixed_cells(
+      const dealii::Mapping<3>                &mapping,
+      const dealii::AffineConstraints<double> &constraints,
+      const BoundaryLoads                     &loads,
+      const dealii::IndexSet                  &changing_dofs,
+      const dealii::AffineConstraints<double> &all_constraints);
+
+    /**
+     * The second half of the split assembly: the system of
+     * assemble_system() for @p constraints, from the rows kept by
+     * assemble_fixed_cells() and the cells with changing DoFs, which are
+     * assembled again. The same matrix and vector as assemble_system()
+     * up to round-off (the sums run in another order).
+     */
+    void
+    assemble_changing_cells(
+      const dealii::Mapping<3>                &mapping,
+      const dealii::AffineConstraints<double> &constraints,
+      const BoundaryLoads                     &loads);
+
+    /**
      * Only the right-hand side of assemble_system() (the boundary
      * tractions; there are no body forces), condensed with
      * @p constraints, which must be homogeneous. For a matrix that stays
@@ -155,6 +189,18 @@ namespace TKR::Elasticity
     void
     compute_residual(const dealii::Mapping<3>              &mapping,
                      const BoundaryLoads                   &loads,
+                     dealii::TrilinosWrappers::MPI::Vector &residual) const;
+
+    /**
+     * As above, but only the cells that hold one of the DoFs @p rows are
+     * visited: the residual is exact in these rows (they get all their
+     * contributions) and incomplete elsewhere. The contact solver needs
+     * it only at the slave nodes, whose cells are a thin layer.
+     */
+    void
+    compute_residual(const dealii::Mapping<3>              &mapping,
+                     const BoundaryLoads                   &loads,
+                     const dealii::IndexSet                &rows,
                      dealii::TrilinosWrappers::MPI::Vector &residual) const;
 
     /**
@@ -231,8 +277,10 @@ namespace TKR::Elasticity
 
   private:
     /**
-     * For every locally owned cell: its matrix and load vector (no
-     * constraints applied), handed to @p use with the cell's DoF indices.
+     * For every locally owned cell that @p select accepts (given the
+     * cell and its DoF indices; all cells if it is empty): its matrix and load
+     * vector (no constraints applied), handed to @p use with the cell's
+     * DoF indices.
      */
     void
     for_each_cell_system(
@@ -242,7 +290,11 @@ namespace TKR::Elasticity
         void(const dealii::DoFHandler<3>::active_cell_iterator &,
              const dealii::FullMatrix<double> &,
              dealii::Vector<double> &,
-             const std::vector<dealii::types::global_dof_index> &)> &use) const;
+             const std::vector<dealii::types::global_dof_index> &)> &use,
+      const std::function<bool(
+        const dealii::DoFHandler<3>::active_cell_iterator &,
+        const std::vector<dealii::types::global_dof_index> &)> &select = {})
+      const;
 
     /** Cell matrix and load vector (no constraints applied). */
     void
@@ -274,6 +326,25 @@ namespace TKR::Elasticity
     dealii::TrilinosWrappers::MPI::Vector     system_rhs;
     dealii::TrilinosWrappers::MPI::Vector     solution;
     dealii::TrilinosWrappers::PreconditionAMG preconditioner;
+    /**
+     * The split assembly (assemble_fixed_cells()): which active cells are
+     * assembled again (by active_cell_index()), the locally owned rows
+     * they can add to (local row of the matrix and position of the row's
+     * first value in @p kept_values), the values of these rows and
+     * right-hand side entries from the other cells.
+     */
+    struct KeptRow
+    {
+      /** Local index of the row in the matrix and in the vector. */
+      int matrix_row, vector_entry;
+      /** Where the row's values start in kept_values. */
+      std::size_t first_value;
+      double      rhs;
+    };
+    std::vector<bool>    changing_cell;
+    std::vector<KeptRow> kept_rows;
+    std::vector<double>  kept_values;
+
     /** Near-null space handed to ML; must outlive the preconditioner. */
     std::unique_ptr<Epetra_MultiVector> near_null_space;
   };
