@@ -82,6 +82,115 @@ namespace TKR::Contact
     return values;
   }
 
+  // Multipliers lambda_j = r_j . n_j / D_jj from the residual of the
+  // unconstrained system (needed at the slave DoFs only) and gaps after
+  // deformation. Every slave node's displacement is kept (the wear's slip
+  // needs it also where the node is out of reach of the master).
+  void
+  ActiveSetSolver::evaluate_state(const Mapping<3>                &mapping,
+                                  const Elasticity::BoundaryLoads &loads,
+                                  const Mortar::MortarOperator    &B,
+                                  const IndexSet                  &slave_dofs,
+                                  ContactState                    &state) const
+  {
+    const auto                   &nodes = coupling.slave_nodes();
+    TrilinosWrappers::MPI::Vector residual;
+    elasticity.compute_residual(mapping, loads, slave_dofs, residual);
+    const std::vector<double> r = gather(B, residual);
+    const std::vector<double> u = gather(B, elasticity.get_solution());
+    for (unsigned int j = 0; j < nodes.size(); ++j)
+      {
+        Tensor<1, 3> r_j;
+        for (unsigned int e = 0; e < 3; ++e)
+          {
+            r_j[e]                   = r[3 * j + e];
+            state.displacement[j][e] = u[3 * j + e];
+          }
+        if (!nodes[j].covered)
+          continue;
+        state.pressure[j] = r_j * nodes[j].normal / nodes[j].D;
+        state.gap[j]      = B.gap(j, u.data());
+      }
+  }
+
+  // Inexact Newton. A Newton step whose active set changes only decides
+  // the next set, from the signs of the complementarity function C_j =
+  // lambda_j - c_j g_j: its linear system needs to be solved only as far
+  // as these signs are certain. CG goes to ten times the Newton step
+  // tolerance, then on to it (warm started); the change of C_j between the
+  // two estimates the error of the first, ten times that of the second.
+  // Where |C_j| does not exceed that change (a sign that may still flip),
+  // and in the step that leaves the set unchanged (its solution is the
+  // result), CG goes on to the Linear solver tolerance. The stopping test
+  // of CG is absolute (tolerance times |f|), so the result meets the same
+  // tolerance as a solve from zero.
+  Elasticity::SolverStatistics
+  ActiveSetSolver::solve_newton_step(
+    const Mapping<3>                &mapping,
+    const Elasticity::BoundaryLoads &loads,
+    const Mortar::MortarOperator    &B,
+    const IndexSet                  &slave_dofs,
+    const AffineConstraints<double> &constraints,
+    const ActiveSetUpdate           &active_set_update,
+    const bool                       warm_start,
+    ContactState                    &state,
+    unsigned int                    &n_changed) const
+  {
+    const auto  &nodes           = coupling.slave_nodes();
+    const auto  &linear          = elasticity.get_solver_parameters();
+    const double tight           = linear.tolerance;
+    const double loose           = linear.newton_step_tolerance;
+    const auto   complementarity = [&]() {
+      std::vector<double> c(nodes.size(), 0.);
+      for (unsigned int j = 0; j < nodes.size(); ++j)
+        if (nodes[j].covered)
+          c[j] = active_set_update.complementarity(nodes[j],
+                                                   state.pressure[j],
+                                                   state.gap[j]);
+      return c;
+    };
+    const auto add = [](Elasticity::SolverStatistics       &sum,
+                        const Elasticity::SolverStatistics &stage) {
+      sum.iterations += stage.iterations;
+      sum.relative_residual = stage.relative_residual;
+      sum.converged         = stage.converged;
+    };
+
+    Elasticity::SolverStatistics statistics;
+    bool                         certain = false;
+    if (loose > tight)
+      {
+        statistics = elasticity.solve(constraints,
+                                      std::max(tight, 10. * loose),
+                                      warm_start);
+        if (statistics.converged)
+          {
+            evaluate_state(mapping, loads, B, slave_dofs, state);
+            const std::vector<double> rough = complementarity();
+            add(statistics, elasticity.solve(constraints, loose, true));
+            if (statistics.converged)
+              {
+                evaluate_state(mapping, loads, B, slave_dofs, state);
+                const std::vector<double> c = complementarity();
+                certain                     = true;
+                for (unsigned int j = 0; j < nodes.size(); ++j)
+                  certain =
+                    certain && (!nodes[j].covered ||
+                                std::abs(c[j]) > std::abs(c[j] - rough[j]));
+                n_changed = active_set_update.count_changes(coupling, state);
+              }
+          }
+        if (certain && n_changed > 0)
+          return statistics;
+      }
+    if (loose <= tight || statistics.converged)
+      add(statistics,
+          elasticity.solve(constraints, tight, loose > tight || warm_start));
+    evaluate_state(mapping, loads, B, slave_dofs, state);
+    n_changed = active_set_update.count_changes(coupling, state);
+    return statistics;
+  }
+
   ContactStatistics
   ActiveSetSolver::solve(const Mapping<3>                &mapping,
                          const Elasticity::BoundaryLoads &loads,
@@ -124,10 +233,13 @@ namespace TKR::Contact
     ContactStatistics         statistics;
     ActiveSetUpdate           active_set_update(pcout, slave_youngs_modulus);
     AffineConstraints<double> constraints;
-    TrilinosWrappers::MPI::Vector residual;
-    unsigned int                  n_expansions           = 0;
-    bool                          rebuild_preconditioner = true;
-    double                        expansion_distance     = initial_distance;
+    unsigned int              n_expansions           = 0;
+    bool                      rebuild_preconditioner = true;
+    double                    expansion_distance     = initial_distance;
+    // The first linear solve starts from zero (the result of a contact
+    // solve does not depend on what was solved before), later ones from the
+    // last Newton step's solution.
+    bool warm_start = false;
 
     for (unsigned int iteration = 1; iteration <= parameters.max_iterations;
          ++iteration)
@@ -151,35 +263,22 @@ namespace TKR::Contact
             elasticity.setup_preconditioner(mapping);
             rebuild_preconditioner = false;
           }
-        const auto linear = elasticity.solve(constraints);
+        unsigned int n_changed = 0;
+        const auto   linear    = solve_newton_step(mapping,
+                                              loads,
+                                              B,
+                                              slave_dofs,
+                                              constraints,
+                                              active_set_update,
+                                              warm_start,
+                                              state,
+                                              n_changed);
+        warm_start             = linear.converged;
         statistics.cg_iterations += linear.iterations;
         statistics.relative_residual = linear.relative_residual;
         statistics.newton_iterations = iteration;
 
-        elasticity.compute_residual(mapping, loads, slave_dofs, residual);
-        const std::vector<double> r = gather(B, residual);
-        const std::vector<double> u = gather(B, elasticity.get_solution());
-
-        // Multipliers lambda_j = r_j . n_j / D_jj and gaps after
-        // deformation. Every slave node's displacement is kept (the wear's
-        // slip needs it also where the node is out of reach of the master).
-        for (unsigned int j = 0; j < n_slave; ++j)
-          {
-            Tensor<1, 3> r_j;
-            for (unsigned int e = 0; e < 3; ++e)
-              {
-                r_j[e]                   = r[3 * j + e];
-                state.displacement[j][e] = u[3 * j + e];
-              }
-            if (!nodes[j].covered)
-              continue;
-            state.pressure[j] = r_j * nodes[j].normal / nodes[j].D;
-            state.gap[j]      = B.gap(j, u.data());
-          }
-
         const unsigned int n_active = state.n_active();
-        const unsigned int n_changed =
-          active_set_update.count_changes(coupling, state);
         pcout << "    active set iteration " << std::setw(2) << iteration
               << ": " << std::setw(6) << n_active << " active, " << std::setw(5)
               << n_changed << " changed";

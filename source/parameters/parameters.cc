@@ -388,6 +388,17 @@ namespace TKR::Parameters
                         "1e-10",
                         Patterns::Double(0),
                         "Relative residual reduction of the CG solver.");
+      prm.declare_entry(
+        "Newton step tolerance",
+        "1e-6",
+        Patterns::Double(0),
+        "Relative CG residual of the Newton steps of the AMG-CG active set "
+        "(Contact solver/Solver = active set) that only decide the next "
+        "active set (inexact Newton). A step is solved on to Tolerance when "
+        "the active set does not change (its solution is the result) or "
+        "when the sign of a node's complementarity function is not yet "
+        "certain at this accuracy. Values at or below Tolerance solve every "
+        "step to Tolerance.");
       prm.declare_entry("Max iterations",
                         "2000",
                         Patterns::Integer(1),
@@ -417,6 +428,7 @@ namespace TKR::Parameters
     prm.enter_subsection("Linear solver");
     {
       tolerance             = prm.get_double("Tolerance");
+      newton_step_tolerance = prm.get_double("Newton step tolerance");
       max_iterations        = prm.get_integer("Max iterations");
       rigid_body_modes      = prm.get_bool("Rigid body modes");
       aggregation_threshold = prm.get_double("AMG aggregation threshold");

@@ -188,10 +188,10 @@ namespace TKR::Problems
                       parameters.contact_solver.initial_contact_distance,
                       state);
       newton_iterations += statistics.newton_iterations;
-      inferior = Gait::TibiaPose::motion_from({solver->observation(0),
-                                               solver->observation(1),
-                                               solver->observation(2),
-                                               solver->observation(3)});
+      inferior = Gait::TibiaPose::motion_from({{solver->observation(0),
+                                                solver->observation(1),
+                                                solver->observation(2),
+                                                solver->observation(3)}});
       return statistics.converged;
     };
     const Gait::PoseIteration iteration = tibia_pose->iterate(pose, solve);

@@ -39,6 +39,9 @@ namespace TKR::Contact
                     dealii::TimerOutput              &timer,
                     const bool                        testing);
 
+    /** The solve() for a combination of the load basis, too. */
+    using ContactSolver::solve;
+
     /**
      * Solve on the current coupling. The sparsity pattern is built for it
      * first, holding the couplings of every covered slave node, so that
@@ -73,6 +76,35 @@ namespace TKR::Contact
     make_constraints(const Mortar::MortarOperator      &B,
                      const std::vector<bool>           &active,
                      dealii::AffineConstraints<double> &constraints) const;
+
+    /**
+     * Pressures (multipliers), gaps after deformation and displacements of
+     * the slave nodes in @p state from the current solution.
+     */
+    void
+    evaluate_state(const dealii::Mapping<3>        &mapping,
+                   const Elasticity::BoundaryLoads &loads,
+                   const Mortar::MortarOperator    &B,
+                   const dealii::IndexSet          &slave_dofs,
+                   ContactState                    &state) const;
+
+    /**
+     * Solve the linear system of one Newton step (inexact Newton: as far
+     * as the next active set needs, see the .cc file), starting from the
+     * last solution if @p warm_start, and evaluate @p state for its
+     * solution; @p n_changed is set to the number of nodes that the
+     * active-set update would change.
+     */
+    Elasticity::SolverStatistics
+    solve_newton_step(const dealii::Mapping<3>                &mapping,
+                      const Elasticity::BoundaryLoads         &loads,
+                      const Mortar::MortarOperator            &B,
+                      const dealii::IndexSet                  &slave_dofs,
+                      const dealii::AffineConstraints<double> &constraints,
+                      const ActiveSetUpdate &active_set_update,
+                      const bool             warm_start,
+                      ContactState          &state,
+                      unsigned int          &n_changed) const;
 
     /** Values of a distributed vector at the surface DoFs, on all ranks. */
     std::vector<double>

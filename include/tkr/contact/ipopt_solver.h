@@ -27,6 +27,9 @@ namespace TKR::Contact
   public:
     using ContactSolver::ContactSolver;
 
+    /** The solve() for a combination of the load basis, too. */
+    using ContactSolver::solve;
+
     /**
      * Solve to 1e-2 x the Contact solver tolerance; the solution goes into
      * the LinearElasticity object, pressures, gaps and the active set

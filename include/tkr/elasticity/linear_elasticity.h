@@ -220,6 +220,27 @@ namespace TKR::Elasticity
     solve(const dealii::AffineConstraints<double> &constraints);
 
     /**
+     * As solve(), but CG stops when the residual is @p tolerance times the
+     * norm of the right-hand side (instead of the `Linear solver`
+     * tolerance) and, if @p start_from_solution, it starts from the
+     * current solution instead of zero (its constrained entries set to
+     * zero, the value the condensed system has there): for a sequence of
+     * systems with similar solutions, such as the Newton steps of the
+     * contact solver.
+     */
+    SolverStatistics
+    solve(const dealii::AffineConstraints<double> &constraints,
+          const double                             tolerance,
+          const bool                               start_from_solution);
+
+    /** The `Linear solver` parameters. */
+    const Parameters::LinearSolver &
+    get_solver_parameters() const
+    {
+      return solver_parameters;
+    }
+
+    /**
      * Replace the solution by @p owned_solution (locally owned entries,
      * constraints already satisfied), e.g. from another solver.
      */

@@ -248,6 +248,14 @@ namespace TKR::Parameters
     /** ML aggregation threshold and smoother sweeps (Chebyshev degree). */
     double       aggregation_threshold;
     unsigned int smoother_sweeps;
+    /**
+     * Relative residual of CG in the Newton steps of the AMG-CG active set
+     * that only decide the next active set (inexact Newton); the step that
+     * confirms the set is solved to `tolerance`. (Last, with the default
+     * of the parameter file, so that brace initialisers of the other
+     * members stay valid.)
+     */
+    double newton_step_tolerance = 1e-6;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);
