@@ -14,10 +14,10 @@ benchmarks/results/.
       Three blocks on one rank, on two ranks, and two independent
       one-rank runs at the same time (this machine's own two-process
       throughput): the parallel efficiency against what two cores can do.
-  benchmarks/wear-run.py growth
+  benchmarks/wear-run.py growth [--sizes coarse,medium,fine]
       Two blocks on the coarse, medium and fine TKR A meshes on one rank:
       the cost per contact solve against the number of DoFs, and its
-      growth exponent.
+      growth exponent (the fine mesh alone takes over half an hour).
 
 Options: --build DIR (default build/release).
 """
@@ -214,7 +214,7 @@ def scaling(args):
 
 def growth(args):
     results = []
-    for size in ["coarse", "medium", "fine"]:
+    for size in args.sizes.split(","):
         prm = {"base": "prm/iso14243-1.prm",
                "mesh": f"meshes/tkr/tkr-a-{size}.msh", "cycles": 1e5}
         r = run(args.build, prm, 1, f"growth-{size}")
@@ -243,6 +243,8 @@ def main():
     parser.add_argument("--prm", default="prm/iso14243-1.prm")
     parser.add_argument("--ranks", type=int, default=2)
     parser.add_argument("--mesh", default="medium")
+    parser.add_argument("--sizes", default="coarse,medium,fine",
+                        help="growth: the TKR A meshes, coarse first")
     args = parser.parse_args()
     os.makedirs(os.path.join(ROOT, "benchmarks", "results"), exist_ok=True)
     if not os.path.exists(os.path.join(args.build, "tkr-wear")):

@@ -30,10 +30,14 @@ namespace TKR::Parameters
                         Patterns::Integer(1),
                         "Number of quasi-static contact solves per cycle.");
       prm.declare_entry("Flexion axis point",
-                        "0, 0, 40",
+                        "0, -2, 53.001",
                         vector_pattern(),
                         "A point (mm) on the flexion axis, which is parallel "
-                        "to x.");
+                        "to x: the centre of the distal arc of the femoral "
+                        "component's J-curve in the sagittal plane. The "
+                        "default is that of the default mesh (TKR A, "
+                        "meshes/tkr/tkr-a-report.txt); your own CAD needs "
+                        "its own.");
       prm.declare_entry("Medial side",
                         "+x",
                         Patterns::Selection("+x|-x"),

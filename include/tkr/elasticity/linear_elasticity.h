@@ -298,6 +298,17 @@ namespace TKR::Elasticity
 
   private:
     /**
+     * Add the cells whose DoFs change with the active set (@p changing) or
+     * the others to the system, with @p constraints (assemble_fixed_cells()
+     * and assemble_changing_cells()).
+     */
+    void
+    add_cells(const dealii::Mapping<3>                &mapping,
+              const dealii::AffineConstraints<double> &constraints,
+              const BoundaryLoads                     &loads,
+              const bool                               changing);
+
+    /**
      * For every locally owned cell that @p select accepts (given the
      * cell and its DoF indices; all cells if it is empty): its matrix and load
      * vector (no constraints applied), handed to @p use with the cell's

@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# The studies of doc/results.md: the 5e6-cycle run of prm/iso14243-1.prm
+# with other blocks (n_Delta) and other meshes. Each run's summary.json and
+# wear_history.csv go to benchmarks/results/studies/NAME/, and one line per
+# run to benchmarks/results/studies/studies.csv.
+#   benchmarks/wear-studies.sh [RANKS] [STUDY ...]
+# Studies: ndelta (coarse TKR A, n_Delta 2e4, 5e4, 1e5, 2e5), meshes (TKR A
+# and B, coarse and medium, n_Delta 5e4), fine (TKR A and B fine, n_Delta
+# 5e4: about an hour each on this machine). Default: ndelta meshes.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+ranks=${1:-2}
+shift || true
+studies=${*:-ndelta meshes}
+build=$root/build/release
+[ "$(id -u)" -eq 0 ] && export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+results=$root/benchmarks/results/studies
+mkdir -p "$results"
+[ -f "$results/studies.csv" ] ||
+  echo "name,mesh,n_delta,dofs,blocks,mass_loss_mg,max_depth_mm,wear_area_percent,contact_solves,converged,wall_time_s" > "$results/studies.csv"
+
+# run NAME VARIANT SIZE N_DELTA
+run() {
+  local name=$1 variant=$2 size=$3 n_delta=$4
+  local axis="0, -2, 53.001"
+  [ "$variant" = b ] && axis="0, -1, 44.001"
+  if [ -f "$results/$name/summary.json" ]; then
+    echo "== $name: done before (remove $results/$name to run it again)"
+    return
+  fi
+  local prm
+  prm=$(mktemp --suffix=.prm)
+  sed -e "s|tkr-a-medium.msh|tkr-$variant-$size.msh|" \
+    -e "s|set Flexion axis point = .*|set Flexion axis point = $axis|" \
+    -e "s|set Cycles per extrapolation step = .*|set Cycles per extrapolation step = $n_delta|" \
+    -e "s|set Directory .*|set Directory = $results/$name|" \
+    -e "s|set VTU interval .*|set VTU interval = 0|" \
+    "$root/prm/iso14243-1.prm" > "$prm"
+  echo "== $name: tkr-$variant-$size, n_Delta $n_delta, $ranks rank(s)"
+  mpirun -np "$ranks" "$build/tkr-wear" "$prm" > "$results/$name.log" 2>&1 ||
+    echo "   FAILED, see $results/$name.log"
+  rm -f "$prm"
+  python3 - "$results/$name/summary.json" "$name" "tkr-$variant-$size" "$n_delta" >> "$results/studies.csv" <<'EOF'
+import json, sys
+s = json.load(open(sys.argv[1]))
+print(",".join(str(x) for x in [sys.argv[2], sys.argv[3], sys.argv[4], s["dofs"], s["blocks"],
+      s["mass_loss_mg"], s["max_wear_depth_mm"], s["wear_area_percent"], s["contact_solves"],
+      str(s["converged"]).lower(), round(s["wall_time_s"], 1)]))
+EOF
+  tail -1 "$results/studies.csv"
+}
+
+for study in $studies; do
+  case $study in
+  ndelta)
+    for n in 2e4 1e5 2e5 5e4; do run "a-coarse-$n" a coarse "$n"; done ;;
+  meshes)
+    run a-coarse-5e4 a coarse 5e4
+    run b-coarse-5e4 b coarse 5e4
+    run a-medium-5e4 a medium 5e4
+    run b-medium-5e4 b medium 5e4 ;;
+  fine)
+    run a-fine-5e4 a fine 5e4
+    run b-fine-5e4 b fine 5e4 ;;
+  *) echo "unknown study $study" >&2; exit 2 ;;
+  esac
+done
