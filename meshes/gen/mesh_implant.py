@@ -30,6 +30,11 @@ femur is translated by the given vector and nothing else.  Otherwise it is
 moved along z only, so that the smallest vertical distance between its
 articular surface and the insert's articular surface (both meshes) is --gap.
 
+Flexion axis: estimated from the distal arcs of the condyles
+(flexion_axis.py) and written, with the mesh file, into KNEE.prm next to
+KNEE.msh, a ready-to-run parameter file of the wear run (check the axis and
+the medial side, which is a guess).
+
 Units: STEP/IGES files declare their unit and OpenCASCADE converts them to mm.
 STL has no unit: --units mm (default) or m says what its numbers are.
 """
@@ -46,6 +51,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 
 import blockmesh  # noqa: E402
+import flexion_axis  # noqa: E402
 
 import gmsh  # noqa: E402
 
@@ -416,6 +422,19 @@ def main(argv=None):
         print("%s: %d vertices, %d hexahedra, volume %.1f mm^3, min scaled corner Jacobian %.3f, quads %s"
               % (b, s[b]["vertices"], s[b]["hexahedra"], s[b]["volume"], s[b]["min_quality"], s[b]["quads"]))
     print("wrote %s (%d Q1 displacement DoFs)" % (args.output, 3 * (s["femur"]["vertices"] + s["tibia"]["vertices"])))
+    # The flexion axis, which the CAD does not state: estimated from the
+    # distal arcs of the condyles, written with the mesh into a parameter file.
+    try:
+        axis = flexion_axis.estimate(fn[np.unique(fem[2]["femur_contact"])])
+    except ValueError as e:
+        print("warning: no flexion axis estimate (%s); set Gait/Flexion axis point yourself" % e)
+        return 0
+    print(flexion_axis.describe(axis))
+    prm = os.path.splitext(args.output)[0] + ".prm"
+    tibia_x = tib[0][np.unique(tib[2]["tibia_contact"]), 0]
+    with open(prm, "w") as f:
+        f.write(flexion_axis.prm_fragment(args.output, axis, float(np.ptp(tibia_x))))
+    print("wrote %s (a parameter file for the wear run: check the flexion axis and the medial side)" % prm)
     return 0
 
 

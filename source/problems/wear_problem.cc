@@ -371,7 +371,6 @@ namespace TKR::Problems
                         " block(s)")
                 << ", warm starts " << (wear.warm_start ? "on" : "off")
                 << std::endl;
-
     while (state.cycles < wear.cycles)
       {
         Timer              block_timer;

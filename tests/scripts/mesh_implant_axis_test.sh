@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# scripts/mesh-implant on the STEP files of TKR A (default options) estimates
+# the flexion axis within 0.5 mm of the generator's (0, -2, 53) and writes a
+# parameter file next to the mesh that holds it; the estimator also finds
+# the axis of the block-structured coarse mesh. Exit code 0 only when every
+# check passed. Needs Debian's python3-gmsh and python3-numpy.
+set -uo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failed=0
+check() { # check DESCRIPTION COMMAND...
+  local what=$1
+  shift
+  if "$@" > "$work/check.log" 2>&1; then
+    echo "ok: $what"
+  else
+    echo "FAILED: $what"
+    cat "$work/check.log"
+    failed=1
+  fi
+}
+py=/usr/bin/python3
+cad=$root/meshes/tkr/cad
+check "mesh-implant on the STEP files" \
+  "$root/scripts/mesh-implant" --femur "$cad/tkr-a-femur.step" \
+  --insert "$cad/tkr-a-insert.step" -o "$work/knee.msh"
+check "the estimate on its output within 0.5 mm of (y, z) = (-2, 53)" \
+  "$py" "$root/meshes/gen/flexion_axis.py" "$work/knee.msh" --expect=-2,53
+check "knee.prm written next to the mesh with the axis" \
+  grep -q "^  set Flexion axis point = 0.000, -2.0[0-9]*, 5[23]\.[0-9]*$" "$work/knee.prm"
+check "knee.prm names the mesh" grep -q "set File = $work/knee.msh" "$work/knee.prm"
+check "the estimate on tkr-a-coarse.msh within 0.5 mm of (-2, 53.001)" \
+  "$py" "$root/meshes/gen/flexion_axis.py" "$root/meshes/tkr/tkr-a-coarse.msh" --expect=-2,53.001
+exit $failed
