@@ -251,48 +251,90 @@ namespace TKR::Gait
     return motion;
   }
 
+  // The pose iteration solves r = 0 for the residual
+  //   r = (mean displacement of the inferior surface,
+  //        (F_e - F) / k_beyond, (T_e - T) / k_beyond at the rim),
+  // where F_e, T_e are the restraints' excess force and torque at the
+  // position reached (pose + mean displacement) and F, T those the solve
+  // assumed: all in mm, r = 0 is the step's equilibrium and every entry is
+  // compared with the pose tolerance. The update is
+  //   pose += lambda P r,  P = diag(1, 1, 1, w_F, w_T),
+  // a fixed-point step with two safeguards:
+  // - w: on its own, the excess force is the root of G(F) = F - F_e(y(F)),
+  //   y(F) the equilibrium position under F, whose slope is 1 inside the
+  //   inner range (F_e does not change there) and lies in [1, k_beyond / k]
+  //   beyond it (the contact can only stiffen the AP spring k). So w = 1
+  //   inside (the Newton step) and w = k / k_beyond beyond: the error then
+  //   shrinks by a factor in [0, 1 - k / k_beyond], without overshooting
+  //   the kink. The same for the torque.
+  // - lambda <= 1, the reciprocal of the slope of r along the previous
+  //   step (a secant: how much of r the previous step removed, per unit
+  //   lambda), halved whenever |r| did not decrease. A contact that pushes
+  //   the tibia back by more than the step (conforming dishes far from
+  //   equilibrium: slopes up to ~2) gets lambda ~ 1 / slope, the Newton
+  //   step along r; where r decreases monotonically, lambda stays 1.
   PoseIteration
   TibiaPose::iterate(
     PoseState                                                      &pose,
     const std::function<bool(const PoseState &, InferiorMotion &)> &solve) const
   {
-    const double force_damping =
+    const double force_scale = 1. / parameters.ap_spring_stiffness_beyond;
+    // The rotation tolerance is the pose tolerance at the insert's rim.
+    const double torque_scale = 0.5 * gait_loads.inferior_surface().width *
+                                numbers::PI / 180. /
+                                parameters.ie_spring_stiffness_beyond;
+    const double force_weight =
       parameters.ap_spring_stiffness / parameters.ap_spring_stiffness_beyond;
-    const double torque_damping =
+    const double torque_weight =
       parameters.ie_spring_stiffness / parameters.ie_spring_stiffness_beyond;
-    // The rotation tolerance: the pose tolerance at the insert's rim.
-    const double rotation_tolerance =
-      parameters.pose_tolerance / (0.5 * gait_loads.inferior_surface().width) *
-      180. / numbers::PI;
 
     PoseIteration result;
     double        relaxation = 1.;
-    Tensor<1, 3>  previous_correction;
-    for (unsigned int iteration = 0;; ++iteration)
+    Tensor<1, 5>  previous_r;
+    for (;;)
       {
-        const bool         contact_converged = solve(pose, result.motion);
-        const Tensor<1, 3> mean              = result.motion.mean;
-        const double       force_change =
-          gait_loads.ap_restraint_excess(pose.translation[1] + mean[1]) -
-          pose.restraint_force;
+        const bool          contact_converged = solve(pose, result.motion);
+        const Tensor<1, 3> &mean              = result.motion.mean;
+        const double        position          = pose.translation[1] + mean[1];
+        const double        rotation          = result.motion.rotation_z;
+        const double        force_change =
+          gait_loads.ap_restraint_excess(position) - pose.restraint_force;
         const double torque_change =
-          gait_loads.ie_restraint_excess(result.motion.rotation_z) -
-          pose.restraint_torque;
-        result.converged =
-          mean.norm() <= parameters.pose_tolerance &&
-          std::abs(force_change) <=
-            parameters.ap_spring_stiffness_beyond * parameters.pose_tolerance &&
-          std::abs(torque_change) <=
-            parameters.ie_spring_stiffness_beyond * rotation_tolerance;
+          gait_loads.ie_restraint_excess(rotation) - pose.restraint_torque;
+        const Tensor<1, 5> r({mean[0],
+                              mean[1],
+                              mean[2],
+                              force_scale * force_change,
+                              torque_scale * torque_change});
+        result.converged = mean.norm() <= parameters.pose_tolerance &&
+                           std::abs(r[3]) <= parameters.pose_tolerance &&
+                           std::abs(r[4]) <= parameters.pose_tolerance;
         if (!contact_converged || result.converged ||
-            iteration + 1 >= max_iterations)
+            result.n_updates + 1 >= max_iterations)
           break;
-        pose.restraint_force += force_damping * force_change;
-        pose.restraint_torque += torque_damping * torque_change;
-        if (mean * previous_correction < 0)
-          relaxation *= 0.5;
-        previous_correction = relaxation * mean;
-        pose.translation += previous_correction;
+
+        if (result.n_updates > 0)
+          {
+            if (r.norm() >= previous_r.norm())
+              relaxation *= 0.5;
+            else
+              {
+                const double slope =
+                  (1. - r * previous_r / previous_r.norm_square()) / relaxation;
+                if (slope > 0)
+                  relaxation = std::min(1., 1. / slope);
+              }
+          }
+        previous_r = r;
+        const bool force_inside =
+          std::abs(position) <= parameters.ap_spring_range;
+        const bool torque_inside =
+          std::abs(rotation) <= parameters.ie_spring_range;
+        pose.translation += relaxation * mean;
+        pose.restraint_force +=
+          relaxation * (force_inside ? 1. : force_weight) * force_change;
+        pose.restraint_torque +=
+          relaxation * (torque_inside ? 1. : torque_weight) * torque_change;
         ++result.n_updates;
       }
     return result;

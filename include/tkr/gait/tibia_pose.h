@@ -140,10 +140,12 @@ namespace TKR::Gait
      * converged, with the inferior motion of the solution in its second
      * argument. The two-rate restraints' excess force and torque over
      * their inner rate (which the stiffness holds) are iterated with the
-     * pose, each update moving them by k / k_beyond of the way to their
-     * value at the new position: a contraction even where the contact
-     * does not hold the tibia. A correction that reverses the previous one
-     * is halved (the fixed-point iteration overshoots).
+     * pose: inside the inner range they take their value at the position
+     * reached (a Newton step), beyond it they move k / k_beyond of the way
+     * there (a contraction even where the contact does not hold the
+     * tibia). The whole update is relaxed by the reciprocal of the
+     * residual's slope along the previous update (a secant, at most 1),
+     * halved whenever the residual did not decrease (see the .cc file).
      */
     PoseIteration
     iterate(PoseState &pose,
