@@ -13,6 +13,7 @@
 #include <tkr/wear/archard.h>
 
 #include <iomanip>
+#include <limits>
 
 namespace TKR::Problems
 {
@@ -126,6 +127,32 @@ namespace TKR::Problems
     return positions;
   }
 
+  double
+  GaitCycle::touching_lift(const std::vector<Point<3>> &positions) const
+  {
+    const double radius = model.parameters.contact_solver.search_distance;
+    double       lift   = std::numeric_limits<double>::max();
+    for (const auto &femur_node : model.master->nodes())
+      {
+        const Point<3> &f       = positions[femur_node.vertex];
+        double          nearest = radius * radius;
+        double          height  = std::numeric_limits<double>::max();
+        for (const auto &tibia_node : model.slave->nodes())
+          {
+            const Point<3> &t = positions[tibia_node.vertex];
+            const double    d =
+              (f[0] - t[0]) * (f[0] - t[0]) + (f[1] - t[1]) * (f[1] - t[1]);
+            if (d < nearest)
+              {
+                nearest = d;
+                height  = f[2] - t[2];
+              }
+          }
+        lift = std::min(lift, height);
+      }
+    return lift;
+  }
+
   // The meshes' facets may leave the bodies overlapping slightly; more than
   // the overlap tolerance is a mesh (or flexion axis) error.
   void
@@ -156,13 +183,21 @@ namespace TKR::Problems
     const Gait::RigidMotion motion = gait_loads->femur_motion(gait);
 
     // A warm start from where the step ended in the previous block, or
-    // rest.
+    // rest (the tibia lifted to touch the femur if that is far from it:
+    // touching_lift()).
     Contact::ContactState state;
     Gait::PoseState       pose;
     if (parameters.wear.warm_start && !starts[step].active.empty())
       {
         state.active = starts[step].active;
         pose         = starts[step].pose;
+      }
+    else
+      {
+        const double lift = touching_lift(step_positions(motion, {}));
+        if (lift > 0.5 * parameters.contact_solver.search_distance &&
+            lift < std::numeric_limits<double>::max())
+          pose.translation[2] = lift;
       }
     Contact::ContactStatistics statistics;
     unsigned int               newton_iterations = 0, n_solves = 0;

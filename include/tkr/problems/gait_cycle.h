@@ -137,6 +137,20 @@ namespace TKR::Problems
     step_positions(const Gait::RigidMotion    &femur_motion,
                    const dealii::Tensor<1, 3> &tibia_pose) const;
 
+    /**
+     * How far the tibia must rise (along +z, rigidly) for its contact
+     * surface to touch the femur's at @p positions (step_positions() at
+     * no pose): the smallest height of a femur_contact node above the
+     * tibia_contact node nearest to it in the xy plane, if that is within
+     * the search distance. A cold step whose femur is higher than half the
+     * search distance starts from this pose, not from rest: in swing the
+     * femur may rise from the insert by more than the search distance
+     * (large flexion, an axis off the distal arc's centre), and the
+     * axial force lifts the tibia after it anyway.
+     */
+    double
+    touching_lift(const std::vector<dealii::Point<3>> &positions) const;
+
     /** The bodies must not overlap more than the tolerance at 0 %. */
     void
     check_initial_overlap() const;
