@@ -51,6 +51,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 
 import blockmesh  # noqa: E402
+import gmsh_hexes  # noqa: E402
 import flexion_axis  # noqa: E402
 
 import gmsh  # noqa: E402
@@ -310,31 +311,7 @@ def mesh_body(role, path, args, tmpdir, linear=False):
     gmsh.option.setNumber("Mesh.SecondOrderLinear", 1 if linear else 0)
     gmsh.model.mesh.generate(3)
     # extract hexahedra and tagged quadrangles
-    tags, coords, _ = gmsh.model.mesh.getNodes()
-    X = np.zeros((int(tags.max()) + 1, 3))
-    X[tags.astype(np.int64)] = coords.reshape(-1, 3)
-    hexes = []
-    for et, _, nt in zip(*gmsh.model.mesh.getElements(3, vol)):
-        if et != 5:
-            raise SystemExit("error: meshing %s left elements of type %d" % (path, et))
-        hexes.append(np.array(nt, dtype=np.int64).reshape(-1, 8))
-    hexes = np.concatenate(hexes)
-    quads = {}
-    for s, g in groups.items():
-        if g is None:
-            continue
-        for et, _, nt in zip(*gmsh.model.mesh.getElements(2, s)):
-            if et != 3:
-                raise SystemExit("error: surface %d of %s has elements of type %d" % (s, path, et))
-            quads.setdefault(g, []).append(np.array(nt, dtype=np.int64).reshape(-1, 4))
-    used = np.unique(hexes)
-    renum = -np.ones(len(X), np.int64)
-    renum[used] = np.arange(len(used))
-    nodes = X[used]
-    hexes = blockmesh.orient_hexes(nodes, renum[hexes])
-    surfaces = {g: blockmesh.orient_quads_outward(nodes, hexes, renum[np.concatenate(q)])
-                for g, q in quads.items()}
-    return nodes, hexes, surfaces
+    return gmsh_hexes.extract(vol, groups, path)
 
 
 def mesh_body_robust(role, path, args, tmpdir):

@@ -33,6 +33,7 @@ MESHES = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 
 import blockmesh  # noqa: E402
+import gmsh_hexes  # noqa: E402
 import verification  # noqa: E402
 
 import gmsh  # noqa: E402
@@ -77,30 +78,7 @@ def _mesh_body(name, build, classify, size_min, size_max, point=None, near=0.0, 
     gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 2)
     gmsh.model.mesh.generate(3)
 
-    tags, coords, _ = gmsh.model.mesh.getNodes()
-    X = np.zeros((int(tags.max()) + 1, 3))
-    X[tags.astype(np.int64)] = coords.reshape(-1, 3)
-    hexes = []
-    for et, _, nt in zip(*gmsh.model.mesh.getElements(3, vol)):
-        if et != 5:
-            raise SystemExit("error: %s: elements of type %d left" % (name, et))
-        hexes.append(np.array(nt, dtype=np.int64).reshape(-1, 8))
-    hexes = np.concatenate(hexes)
-    quads = {}
-    for s, g in groups.items():
-        if g is None:
-            continue
-        for et, _, nt in zip(*gmsh.model.mesh.getElements(2, s)):
-            if et != 3:
-                raise SystemExit("error: %s: surface %d has elements of type %d" % (name, s, et))
-            quads.setdefault(g, []).append(np.array(nt, dtype=np.int64).reshape(-1, 4))
-    used = np.unique(hexes)
-    renum = -np.ones(len(X), np.int64)
-    renum[used] = np.arange(len(used))
-    nodes = X[used]
-    hexes = blockmesh.orient_hexes(nodes, renum[hexes])
-    surfaces = {g: blockmesh.orient_quads_outward(nodes, hexes, renum[np.concatenate(q)])
-                for g, q in quads.items()}
+    nodes, hexes, surfaces = gmsh_hexes.extract(vol, groups, name)
     gmsh.model.remove()
     return nodes, hexes, surfaces
 
