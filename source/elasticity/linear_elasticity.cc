@@ -303,20 +303,7 @@ namespace TKR::Elasticity
     TimerOutput::Scope scope(timer, "assemble system");
     system_matrix = 0;
     system_rhs    = 0;
-    for_each_cell_system(mapping,
-                         loads,
-                         [&](const auto &,
-                             const auto &cell_matrix,
-                             auto       &cell_rhs,
-                             const auto &dofs) {
-                           constraints.distribute_local_to_global(cell_matrix,
-                                                                  cell_rhs,
-                                                                  dofs,
-                                                                  system_matrix,
-                                                                  system_rhs);
-                         });
-    system_matrix.compress(VectorOperation::add);
-    system_rhs.compress(VectorOperation::add);
+    add_cells(mapping, constraints, loads, CellSelection::all);
   }
 
   // A Newton step of the contact solver changes only the constraint lines
@@ -373,7 +360,7 @@ namespace TKR::Elasticity
 
       system_matrix = 0;
       system_rhs    = 0;
-      add_cells(mapping, constraints, loads, false);
+      add_cells(mapping, constraints, loads, CellSelection::fixed);
 
       const Epetra_CrsMatrix &matrix = system_matrix.trilinos_matrix();
       const Epetra_FEVector  &rhs    = system_rhs.trilinos_vector();
@@ -429,15 +416,16 @@ namespace TKR::Elasticity
                   values);
         rhs[0][kept.vector_entry] = kept.rhs;
       }
-    add_cells(mapping, constraints, loads, true);
+    add_cells(mapping, constraints, loads, CellSelection::changing);
   }
 
   void
   LinearElasticity::add_cells(const Mapping<3>                &mapping,
                               const AffineConstraints<double> &constraints,
                               const BoundaryLoads             &loads,
-                              const bool                       changing)
+                              const CellSelection              selection)
   {
+    const bool changing = selection == CellSelection::changing;
     for_each_cell_system(
       mapping,
       loads,
@@ -452,7 +440,8 @@ namespace TKR::Elasticity
                                                system_rhs);
       },
       [&](const auto &cell, const auto &) {
-        return changing_cell[cell->active_cell_index()] == changing;
+        return selection == CellSelection::all ||
+               changing_cell[cell->active_cell_index()] == changing;
       });
     system_matrix.compress(VectorOperation::add);
     system_rhs.compress(VectorOperation::add);

@@ -297,16 +297,26 @@ namespace TKR::Elasticity
     }
 
   private:
+    /** Which cells add_cells() adds. */
+    enum class CellSelection
+    {
+      all,
+      /** Those whose DoFs do not change with the active set. */
+      fixed,
+      /** Those whose DoFs do (assemble_fixed_cells() marks them). */
+      changing
+    };
+
     /**
-     * Add the cells whose DoFs change with the active set (@p changing) or
-     * the others to the system, with @p constraints (assemble_fixed_cells()
-     * and assemble_changing_cells()).
+     * Add the cells of @p selection to the system, with @p constraints
+     * (assemble_system(), assemble_fixed_cells() and
+     * assemble_changing_cells()), and compress it.
      */
     void
     add_cells(const dealii::Mapping<3>                &mapping,
               const dealii::AffineConstraints<double> &constraints,
               const BoundaryLoads                     &loads,
-              const bool                               changing);
+              const CellSelection                      selection);
 
     /**
      * For every locally owned cell that @p select accepts (given the
