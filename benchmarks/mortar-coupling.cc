@@ -8,8 +8,11 @@
 // flexion axis of the TKR A meshes).
 //   cmake --build build/release --target mortar-coupling
 //   build/release/mortar-coupling FILE.msh [N_CALLS [SEARCH_DISTANCE [DZ
-//   [FLEXION]]]]
-// Prints the coupling statistics and the mean wall time of one call.
+//   [FLEXION [WINDOW]]]]]
+// Prints the coupling statistics and the mean wall time of one call. With
+// WINDOW > 0 (mm) the timed calls use a coupling window of that width
+// around the faces' clearances at no displacement (as the gait's solves,
+// whose window follows the previous solve's deformed clearances).
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/numbers.h>
@@ -37,7 +40,7 @@ main(int argc, char **argv)
   if (argc < 2)
     {
       std::cerr << "usage: mortar-coupling FILE.msh [N_CALLS "
-                   "[SEARCH_DISTANCE [DZ]]]"
+                   "[SEARCH_DISTANCE [DZ [FLEXION [WINDOW]]]]]"
                 << std::endl;
       return 1;
     }
@@ -46,6 +49,8 @@ main(int argc, char **argv)
   const double       dz              = argc > 4 ? std::stod(argv[4]) : 0.;
   const double       flexion =
     (argc > 5 ? std::stod(argv[5]) : 0.) * numbers::PI / 180.;
+  Mortar::CouplingWindow window;
+  window.width = argc > 6 ? std::stod(argv[6]) : 0.;
 
   Triangulation<3> triangulation;
   Mesh::read_mesh(Parameters::Mesh::with_default_groups(argv[1]),
@@ -76,9 +81,16 @@ main(int argc, char **argv)
       }
 
   coupling.reinit(positions, search_distance); // warm-up
+  if (window.width > 0)
+    window.face_clearance =
+      coupling.face_clearances(std::vector<Tensor<1, 3>>(slave.nodes().size()),
+                               0.);
   Timer timer;
   for (unsigned int i = 0; i < n_calls; ++i)
-    coupling.reinit(positions, search_distance);
+    coupling.reinit(positions,
+                    search_distance,
+                    unit_symmetric_tensor<3>(),
+                    &window);
   timer.stop();
 
   const auto &s = coupling.statistics();
@@ -102,8 +114,13 @@ main(int argc, char **argv)
             << ", touched but not covered " << s.n_uncovered_touched_nodes
             << std::endl
             << "  covered area " << s.covered_area << " of slave area "
-            << s.slave_area << " mm^2" << std::endl
-            << "  reinit: " << std::fixed << std::setprecision(2)
+            << s.slave_area << " mm^2" << std::endl;
+  if (window.width > 0)
+    std::cout << "  window " << window.width << " mm: slave faces within the "
+              << "search distance " << s.n_faces_in_reach << ", near "
+              << s.n_near_faces << ", integrated " << s.n_window_faces
+              << ", nodes left out " << s.n_left_out_nodes << std::endl;
+  std::cout << "  reinit: " << std::fixed << std::setprecision(2)
             << 1e3 * timer.wall_time() / n_calls << " ms per call (mean of "
             << n_calls << ")" << std::endl;
 }

@@ -12,6 +12,8 @@
 #include <tkr/mortar/surface_geometry.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <optional>
 
 namespace TKR::Mortar
@@ -55,6 +57,82 @@ namespace TKR::Mortar
         }
       tree.query(boost::geometry::index::intersects(BoundingBox<3>(corners)),
                  std::back_inserter(candidates));
+    }
+
+    /**
+     * A master face @p quad seen from an auxiliary plane: its projection,
+     * and the range of its vertices' heights above the plane.
+     */
+    struct MasterProjection
+    {
+      PlaneQuad quad;
+      double    min_beta = 1e300, max_beta = -1e300;
+
+      MasterProjection(const AuxiliaryPlane &plane, const BilinearQuad &face)
+      {
+        for (unsigned int v = 0; v < 4; ++v)
+          {
+            const double beta = plane.height(face.vertices[v]);
+            min_beta          = std::min(min_beta, beta);
+            max_beta          = std::max(max_beta, beta);
+            quad.vertices[v]  = plane.coordinates(face.vertices[v]);
+          }
+      }
+    };
+
+    /**
+     * A lower bound of the height above @p plane of the points of the
+     * master face @p face whose projections fall into @p box (infinity if
+     * none does): the face is cut into n x n patches, each of them a
+     * bilinear patch inside the convex hull of its corners (its points are
+     * non-negative combinations of them), so that its heights lie between
+     * its corners' and its projection inside their box. Much closer than
+     * the smallest vertex height where the face is tilted against the
+     * plane.
+     */
+    double
+    lowest_height_over(const BilinearQuad   &face,
+                       const AuxiliaryPlane &plane,
+                       const BoundingBox<2> &box)
+    {
+      constexpr unsigned int                n = 4;
+      std::array<Point2, (n + 1) * (n + 1)> x;
+      std::array<double, (n + 1) * (n + 1)> beta;
+      for (unsigned int j = 0; j <= n; ++j)
+        for (unsigned int i = 0; i <= n; ++i)
+          {
+            const Point<3> p = face.point(Point2(double(i) / n, double(j) / n));
+            x[j * (n + 1) + i]    = plane.coordinates(p);
+            beta[j * (n + 1) + i] = plane.height(p);
+          }
+      const auto &[lower, upper] = box.get_boundary_points();
+      double result              = std::numeric_limits<double>::infinity();
+      for (unsigned int j = 0; j < n; ++j)
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            const unsigned int corners[4] = {j * (n + 1) + i,
+                                             j * (n + 1) + i + 1,
+                                             (j + 1) * (n + 1) + i,
+                                             (j + 1) * (n + 1) + i + 1};
+            bool               overlaps   = true;
+            double             lowest     = beta[corners[0]];
+            for (unsigned int d = 0; d < 2 && overlaps; ++d)
+              {
+                double min_x = x[corners[0]][d], max_x = min_x;
+                for (const unsigned int c : corners)
+                  {
+                    min_x = std::min(min_x, x[c][d]);
+                    max_x = std::max(max_x, x[c][d]);
+                  }
+                overlaps = max_x >= lower[d] && min_x <= upper[d];
+              }
+            if (!overlaps)
+              continue;
+            for (const unsigned int c : corners)
+              lowest = std::min(lowest, beta[c]);
+            result = std::min(result, lowest);
+          }
+      return result;
     }
 
     /** True if @p p lies in the convex counter-clockwise @p polygon, or
@@ -267,7 +345,8 @@ namespace TKR::Mortar
   void
   MortarCoupling::reinit(const std::vector<Point<3>> &positions,
                          const double                 search_distance,
-                         const Tensor<2, 3>          &master_rotation)
+                         const Tensor<2, 3>          &master_rotation,
+                         const CouplingWindow        *window)
   {
     update_slave_cache(positions);
     nodes.assign(slave.nodes().size(), SlaveNode());
@@ -287,12 +366,117 @@ namespace TKR::Mortar
     accumulator.covered_D.assign(nodes.size(), 0.);
     accumulator.rows.resize(nodes.size());
     accumulator.projects.assign(nodes.size(), false);
-    for (unsigned int e = 0; e < slave.faces().size(); ++e)
-      make_cells(e, positions, master_faces, search_distance, accumulator);
+    const unsigned int n_faces = slave.faces().size();
+    face_distance.assign(n_faces, std::numeric_limits<double>::infinity());
+    std::vector<std::vector<unsigned int>> pairs(n_faces);
+    for (unsigned int e = 0; e < n_faces; ++e)
+      find_pairs(e,
+                 positions,
+                 master_faces,
+                 search_distance,
+                 accumulator,
+                 pairs[e]);
+
+    std::vector<bool> integrated(n_faces, true), left_out;
+    near_face.assign(n_faces, true);
+    window_width = 0;
+    if (window != nullptr && window->width > 0 &&
+        !window->face_clearance.empty())
+      choose_window_faces(*window, integrated, left_out);
+    for (unsigned int e = 0; e < n_faces; ++e)
+      if (integrated[e])
+        make_cells(e, pairs[e], master_faces, accumulator);
+      else
+        accumulator.faces[e].first_cell = accumulator.faces[e].end_cell =
+          accumulator.cells.size();
     fit_weights(accumulator);
-    for (unsigned int e = 0; e < slave.faces().size(); ++e)
+    for (unsigned int e = 0; e < n_faces; ++e)
       assemble_face(e, positions, accumulator);
-    finish_nodes(positions, master_rotation, accumulator);
+    finish_nodes(positions, master_rotation, left_out, accumulator);
+  }
+
+  std::vector<double>
+  MortarCoupling::face_clearances(
+    const std::vector<Tensor<1, 3>> &slave_displacement,
+    const double                     master_displacement) const
+  {
+    std::vector<double> result(face_distance);
+    for (unsigned int e = 0; e < result.size(); ++e)
+      if (std::isfinite(result[e]))
+        result[e] -= closure(e, slave_displacement, master_displacement);
+    return result;
+  }
+
+  double
+  MortarCoupling::closure(const unsigned int               e,
+                          const std::vector<Tensor<1, 3>> &slave_displacement,
+                          const double master_displacement) const
+  {
+    const auto &projection = slave_cache->projections[e];
+    if (!projection || slave_displacement.empty())
+      return master_displacement;
+    double slave_closure = -std::numeric_limits<double>::infinity();
+    for (const unsigned int j : slave.faces()[e].nodes)
+      slave_closure =
+        std::max(slave_closure,
+                 slave_displacement[j] * projection->plane.normal());
+    return slave_closure + master_displacement;
+  }
+
+  // Near faces, the faces around their nodes (integrated), and the nodes
+  // with a face that is not integrated but could couple (left out).
+  void
+  MortarCoupling::choose_window_faces(const CouplingWindow &window,
+                                      std::vector<bool>    &integrated,
+                                      std::vector<bool>    &left_out)
+  {
+    const auto        &faces   = slave.faces();
+    const unsigned int n_faces = faces.size();
+    AssertThrow(window.face_clearance.size() == n_faces, ExcInternalError());
+    window_width = window.width;
+    std::vector<bool> in_window(nodes.size(), false);
+    for (unsigned int e = 0; e < n_faces; ++e)
+      {
+        near_face[e] = window.face_clearance[e] < window.width;
+        if (std::isfinite(face_distance[e]))
+          ++stats.n_faces_in_reach;
+        if (near_face[e])
+          {
+            ++stats.n_near_faces;
+            for (const unsigned int j : faces[e].nodes)
+              in_window[j] = true;
+          }
+      }
+    left_out.assign(nodes.size(), false);
+    for (unsigned int e = 0; e < n_faces; ++e)
+      {
+        integrated[e] = false;
+        for (const unsigned int j : faces[e].nodes)
+          integrated[e] = integrated[e] || in_window[j];
+        if (integrated[e])
+          ++stats.n_window_faces;
+        else if (std::isfinite(face_distance[e]))
+          for (const unsigned int j : faces[e].nodes)
+            left_out[j] = true;
+      }
+    for (const bool out : left_out)
+      stats.n_left_out_nodes += out;
+  }
+
+  bool
+  MortarCoupling::window_holds(
+    const std::vector<Tensor<1, 3>> &slave_displacement,
+    const double                     master_displacement) const
+  {
+    if (window_width == 0)
+      return true;
+    for (unsigned int e = 0; e < near_face.size(); ++e)
+      if (!near_face[e] && std::isfinite(face_distance[e]) &&
+          !(face_distance[e] -
+              closure(e, slave_displacement, master_displacement) >=
+            0.5 * window_width))
+        return false;
+    return true;
   }
 
   // D_jj = int phi_j and the nodal normals n_j = int phi_j n / |...| over
@@ -382,17 +566,17 @@ namespace TKR::Mortar
     return false;
   }
 
-  // The integration cells of slave face e (see the class documentation):
-  // auxiliary plane, candidates, and a cell for each candidate that passes.
+  // The candidates of the R-tree that face slave face e, lie within the
+  // search distance along its plane normal and overlap its box in the
+  // plane; the smallest distance bound among them.
   void
-  MortarCoupling::make_cells(const unsigned int           e,
+  MortarCoupling::find_pairs(const unsigned int           e,
                              const std::vector<Point<3>> &positions,
                              const MasterGeometry        &master_faces,
                              const double                 search_distance,
-                             Accumulator                 &accumulator)
+                             Accumulator                 &accumulator,
+                             std::vector<unsigned int>   &pairs)
   {
-    auto &face      = accumulator.faces[e];
-    face.first_cell = face.end_cell = accumulator.cells.size();
     const std::optional<SlaveProjection> &projection =
       slave_cache->projections[e];
     if (!projection)
@@ -400,23 +584,60 @@ namespace TKR::Mortar
         ++stats.n_invalid_faces;
         return;
       }
-    face.n0         = projection->plane.normal();
-    face.plane_area = projection->area;
-    face.exact      = slave_cache->exact[e];
-
+    const auto &plane = projection->plane;
     find_candidates(master_faces.tree,
                     slave.face_vertices(e, positions),
-                    face.n0,
+                    plane.normal(),
                     search_distance,
                     accumulator.candidates);
     stats.n_candidate_pairs += accumulator.candidates.size();
     for (const auto &candidate : accumulator.candidates)
-      make_cell(e,
-                candidate.second,
-                *projection,
-                master_faces,
-                search_distance,
-                accumulator);
+      {
+        const unsigned int m = candidate.second;
+        if (!(master_faces.normals[m] * plane.normal() < 0))
+          continue; // not facing the slave face
+        // The gap between the faces along n0 lies between these bounds
+        // (each face lies between its vertices' heights).
+        const MasterProjection master_plane(plane, master_faces.quads[m]);
+        const double distance = master_plane.min_beta - projection->max_height;
+        if (distance > search_distance ||
+            master_plane.max_beta - projection->min_height < -search_distance)
+          continue;
+        const BoundingBox<2> master_box(
+          std::vector<Point2>(master_plane.quad.vertices.begin(),
+                              master_plane.quad.vertices.end()));
+        if (projection->box.get_neighbor_type(master_box) ==
+            NeighborType::not_neighbors)
+          continue;
+        pairs.push_back(m);
+        if (distance < face_distance[e])
+          face_distance[e] = std::min(face_distance[e],
+                                      lowest_height_over(master_faces.quads[m],
+                                                         plane,
+                                                         projection->box) -
+                                        projection->max_height);
+      }
+  }
+
+  // The integration cells of slave face e (see the class documentation):
+  // a cell for each pair that overlaps in the plane.
+  void
+  MortarCoupling::make_cells(const unsigned int               e,
+                             const std::vector<unsigned int> &pairs,
+                             const MasterGeometry            &master_faces,
+                             Accumulator                     &accumulator)
+  {
+    auto &face      = accumulator.faces[e];
+    face.first_cell = face.end_cell = accumulator.cells.size();
+    const std::optional<SlaveProjection> &projection =
+      slave_cache->projections[e];
+    if (!projection)
+      return;
+    face.n0         = projection->plane.normal();
+    face.plane_area = projection->area;
+    face.exact      = slave_cache->exact[e];
+    for (const unsigned int m : pairs)
+      make_cell(e, m, *projection, master_faces, accumulator);
 
     face.end_cell = accumulator.cells.size();
     if (face.end_cell == face.first_cell)
@@ -433,44 +654,18 @@ namespace TKR::Mortar
       ++stats.n_partly_covered_faces;
   }
 
-  // The cell of slave face e and master face m, if they face each other,
-  // lie within the search distance and overlap in the plane; cheap
-  // rejections first.
+  // The cell of slave face e and master face m (a pair of find_pairs()),
+  // if their projections overlap.
   void
   MortarCoupling::make_cell(const unsigned int     e,
                             const unsigned int     m,
                             const SlaveProjection &slave_face,
                             const MasterGeometry  &master_faces,
-                            const double           search_distance,
                             Accumulator           &accumulator)
   {
-    const auto         &plane       = slave_face.plane;
-    const BilinearQuad &master_quad = master_faces.quads[m];
-    if (!(master_faces.normals[m] * plane.normal() < 0))
-      return; // not facing the slave face
-
-    // The gap between the faces along n0 lies between these bounds (each
-    // face lies between its vertices' heights).
-    PlaneQuad master_plane;
-    double    min_beta = 1e300, max_beta = -1e300;
-    for (unsigned int v = 0; v < 4; ++v)
-      {
-        const double beta        = plane.height(master_quad.vertices[v]);
-        min_beta                 = std::min(min_beta, beta);
-        max_beta                 = std::max(max_beta, beta);
-        master_plane.vertices[v] = plane.coordinates(master_quad.vertices[v]);
-      }
-    if (min_beta - slave_face.max_height > search_distance ||
-        max_beta - slave_face.min_height < -search_distance)
-      return;
-    const BoundingBox<2> master_box(
-      std::vector<Point2>(master_plane.vertices.begin(),
-                          master_plane.vertices.end()));
-    if (slave_face.box.get_neighbor_type(master_box) ==
-        NeighborType::not_neighbors)
-      return;
-
-    const int orientation = master_plane.convex_orientation();
+    const MasterProjection projection(slave_face.plane, master_faces.quads[m]);
+    const PlaneQuad       &master_plane = projection.quad;
+    const int              orientation  = master_plane.convex_orientation();
     if (orientation == 0)
       {
         ++stats.n_rejected_pairs;
@@ -501,7 +696,8 @@ namespace TKR::Mortar
        area,
        std::abs(signed_area(master_outline)),
        plane_moments(master_plane.determinant_coefficients()),
-       max_beta - min_beta <= 1e-12 * std::sqrt(slave_face.area)});
+       projection.max_beta - projection.min_beta <=
+         1e-12 * std::sqrt(slave_face.area)});
     accumulator.faces[e].covered_plane_area += area;
 
     // Does a node of the face project onto this master face?
@@ -640,14 +836,20 @@ namespace TKR::Mortar
   void
   MortarCoupling::finish_nodes(const std::vector<Point<3>> &positions,
                                const Tensor<2, 3>          &master_rotation,
+                               const std::vector<bool>     &left_out,
                                Accumulator                 &accumulator)
   {
     const auto &master_nodes = master.nodes();
     const auto &slave_list   = slave.nodes();
     for (unsigned int j = 0; j < nodes.size(); ++j)
       {
-        SlaveNode   &node      = nodes[j];
-        auto        &row       = accumulator.rows[j];
+        SlaveNode &node = nodes[j];
+        auto      &row  = accumulator.rows[j];
+        if (!left_out.empty() && left_out[j])
+          {
+            node.master_normal = transpose(master_rotation) * node.normal;
+            continue;
+          }
         const double covered_D = accumulator.covered_D[j];
         stats.covered_area += covered_D;
         node.covered_fraction = covered_D / node.D;

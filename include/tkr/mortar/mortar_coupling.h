@@ -105,6 +105,27 @@ namespace TKR::Mortar
     /** Slave area (mm^2) and the part of it that the projections of the
      *  master faces cover (integrated on the slave surface). */
     double slave_area = 0, covered_area = 0;
+    /** With a CouplingWindow: slave faces within the search distance,
+     *  those near the master surface, and those integrated; slave nodes
+     *  left out (their support reaches beyond the integrated faces). */
+    unsigned int n_faces_in_reach = 0, n_near_faces = 0, n_window_faces = 0,
+                 n_left_out_nodes = 0;
+  };
+
+  /**
+   * A narrower choice of the slave faces that MortarCoupling::reinit()
+   * integrates than the search distance (the contact zone and a margin
+   * around it), with what the caller expects the solve to do: the
+   * displacements of a previous solve. See MortarCoupling::reinit().
+   */
+  struct CouplingWindow
+  {
+    /** Width w of the window (mm). */
+    double width = 0;
+    /** A previous solve's lower bound of the distance of each slave face
+     *  from the master surface after the displacement
+     *  (MortarCoupling::face_clearances(), mm); empty: no window. */
+    std::vector<double> face_clearance;
   };
 
   /**
@@ -165,12 +186,54 @@ namespace TKR::Mortar
      * way as it, are not coupled to it. @p master_rotation is the rotation
      * R of the master body whose displacement DoFs live in its co-rotated
      * frame (identity: displacements in the global frame).
+     *
+     * With a @p window (width w, the face clearances of a previous solve):
+     * a slave face is near if its clearance is below w. (The clearance is
+     * that of the deformed bodies, which a pose update barely changes: it
+     * moves the tibia, and its displacement back.) The faces around the
+     * nodes of near faces are integrated as without the window, so these
+     * nodes get the same rows; nodes with a face that is not integrated
+     * are left out (not covered, no row). The cost then follows the
+     * contact zone instead of the part of the surface within the search
+     * distance. Check the solve with window_holds(). (On a flat interface
+     * a master face covered in part by left-out faces loses its fitted
+     * weights; curved surfaces have none.)
      */
     void
     reinit(const std::vector<dealii::Point<3>> &positions,
            const double                         search_distance,
            const dealii::Tensor<2, 3>          &master_rotation =
-             dealii::unit_symmetric_tensor<3>());
+             dealii::unit_symmetric_tensor<3>(),
+           const CouplingWindow *window = nullptr);
+
+    /**
+     * After a reinit() with a CouplingWindow: true if the displacement of
+     * a solve on this coupling (@p slave_displacement of every slave node,
+     * @p master_displacement a bound of the master nodes') leaves every
+     * slave face outside the window at least half its width from the
+     * master surface. Then every left-out node has a gap of at least w/2
+     * on its whole support and would be inactive with zero pressure in the
+     * coupling over the whole search distance too: the solve is the one
+     * without the window. False means: solve again without it. Always
+     * true after a reinit() without a window.
+     */
+    bool
+    window_holds(const std::vector<dealii::Tensor<1, 3>> &slave_displacement,
+                 const double master_displacement) const;
+
+    /**
+     * A lower bound of the distance of each slave face from the master
+     * surface (along its plane normal, mm) after a displacement
+     * (@p slave_displacement of every slave node, @p master_displacement a
+     * bound of the master nodes'): the bound of the last reinit() minus
+     * the largest u_v . n0 of its nodes (its points move by convex
+     * combinations of them) minus the master's bound; infinity for faces
+     * that no master face within the search distance faces. For the
+     * CouplingWindow of the next solves.
+     */
+    std::vector<double>
+    face_clearances(const std::vector<dealii::Tensor<1, 3>> &slave_displacement,
+                    const double master_displacement) const;
 
     const std::vector<SlaveNode> &
     slave_nodes() const
@@ -221,13 +284,44 @@ namespace TKR::Mortar
                        const std::vector<dealii::Point<3>> &positions,
                        std::optional<SlaveProjection>      &projection);
 
-    /** The integration cells of slave face @p e, with Gauss points. */
+    /**
+     * The master faces that may couple to slave face @p e (facing it,
+     * within the search distance, overlapping it in its plane) into
+     * @p pairs, and a lower bound of its distance to them along its plane
+     * normal into face_distance (infinity if there are none).
+     */
     void
-    make_cells(const unsigned int                   e,
+    find_pairs(const unsigned int                   e,
                const std::vector<dealii::Point<3>> &positions,
                const MasterGeometry                &master_faces,
                const double                         search_distance,
-               Accumulator                         &accumulator);
+               Accumulator                         &accumulator,
+               std::vector<unsigned int>           &pairs);
+
+    /**
+     * With a window: which slave faces are integrated (those with a node
+     * on a face nearer than the window's width after its expected
+     * displacement) and which nodes are left out.
+     */
+    void
+    choose_window_faces(const CouplingWindow &window,
+                        std::vector<bool>    &integrated,
+                        std::vector<bool>    &left_out);
+
+    /** By how much a displacement may close the gap of slave face @p e
+     *  (see face_clearances()). */
+    double
+    closure(const unsigned int                       e,
+            const std::vector<dealii::Tensor<1, 3>> &slave_displacement,
+            const double                             master_displacement) const;
+
+    /** The integration cells of slave face @p e and the master faces
+     *  @p pairs, with Gauss points. */
+    void
+    make_cells(const unsigned int               e,
+               const std::vector<unsigned int> &pairs,
+               const MasterGeometry            &master_faces,
+               Accumulator                     &accumulator);
 
     /** The integration cell of slave face @p e and master face @p m. */
     void
@@ -235,7 +329,6 @@ namespace TKR::Mortar
               const unsigned int     m,
               const SlaveProjection &slave_face,
               const MasterGeometry  &master_faces,
-              const double           search_distance,
               Accumulator           &accumulator);
 
     /** Fit the weights of the points to exact face integrals. */
@@ -248,10 +341,12 @@ namespace TKR::Mortar
                   const std::vector<dealii::Point<3>> &positions,
                   Accumulator                         &accumulator);
 
-    /** Rows of M, the edge rule, weighted gaps, master points. */
+    /** Rows of M, the edge rule, weighted gaps, master points; nodes
+     *  @p left_out (if not empty) get none. */
     void
     finish_nodes(const std::vector<dealii::Point<3>> &positions,
                  const dealii::Tensor<2, 3>          &master_rotation,
+                 const std::vector<bool>             &left_out,
                  Accumulator                         &accumulator);
 
     const ContactSurface  &slave;
@@ -261,6 +356,14 @@ namespace TKR::Mortar
     CouplingStatistics     stats;
     /** The slave-side data of update_slave_cache(). */
     std::shared_ptr<SlaveCache> slave_cache;
+    /** Per slave face, of the last reinit(): the lower bound of its
+     *  distance to the master faces that may couple to it (mm, infinity
+     *  if none may), and whether it was within the window (all true
+     *  without one). */
+    std::vector<double> face_distance;
+    std::vector<bool>   near_face;
+    /** Width of the last reinit()'s window (0: none). */
+    double window_width = 0;
   };
 } // namespace TKR::Mortar
 
