@@ -6,6 +6,7 @@
 #include <tkr/base/mpi.h>
 #include <tkr/contact/active_set_solver.h>
 
+#include <cmath>
 #include <iomanip>
 
 namespace TKR::Contact
@@ -98,6 +99,12 @@ namespace TKR::Contact
     elasticity.compute_residual(mapping, loads, slave_dofs, residual);
     const std::vector<double> r = gather(B, residual);
     const std::vector<double> u = gather(B, elasticity.get_solution());
+    state.master_displacement   = 0;
+    for (unsigned int c = B.n_slave_columns(); c < B.n_columns(); c += 3)
+      state.master_displacement =
+        std::max(state.master_displacement,
+                 std::sqrt(u[c] * u[c] + u[c + 1] * u[c + 1] +
+                           u[c + 2] * u[c + 2]));
     for (unsigned int j = 0; j < nodes.size(); ++j)
       {
         Tensor<1, 3> r_j;

@@ -10,8 +10,10 @@
 #include <tkr/contact/condensed_solver.h>
 
 #include <algorithm>
+#include <cmath>
 #include <iomanip>
 #include <limits>
+#include <map>
 
 namespace TKR::Contact
 {
@@ -175,6 +177,7 @@ namespace TKR::Contact
                           "set."));
             Column &stored = node_columns[node][(start + c) % 3];
             stored.surface.assign(own, own + n_own);
+            stored.peak = own_max;
             stored.observations.assign(observations.begin() +
                                          c * n_observations,
                                        observations.begin() +
@@ -484,6 +487,23 @@ namespace TKR::Contact
     for (unsigned int j = 0; j < n_slave; ++j)
       for (unsigned int e = 0; e < 3; ++e)
         state.displacement[j][e] = u_slave[3 * j + e];
+
+    // A bound of the master nodes' displacement (a coupling window needs
+    // it) without computing it: |u_m| <= sqrt(3) max_r |u_r| and
+    // max_r |u_r| <= max_r |u_0,r| + sum_c |sum_i lambda_i B_ic| peak_c
+    // over the master columns c.
+    double master_bound = 0;
+    for (unsigned int r = n_slave_values; r < u0.size(); ++r)
+      master_bound = std::max(master_bound, std::abs(u0[r]));
+    std::map<unsigned int, double> master_loads;
+    for (unsigned int i = 0; i < n_slave; ++i)
+      if (state.pressure[i] != 0.)
+        for (auto e = B.begin(i); e != B.end(i); ++e)
+          if (e->column >= n_slave_values)
+            master_loads[e->column] += state.pressure[i] * e->value;
+    for (const auto &[c, load] : master_loads)
+      master_bound += std::abs(load) * node_columns[c / 3][c % 3].peak;
+    state.master_displacement   = std::sqrt(3.) * master_bound;
     last_state                  = state;
     statistics.computed_columns = n_stored_columns - n_columns_before;
     add_contact_results(coupling, state, statistics);

@@ -7,6 +7,7 @@
 #include <tkr/contact/ipopt_qp_loader.h>
 #include <tkr/contact/ipopt_solver.h>
 
+#include <cmath>
 #include <limits>
 #include <memory>
 
@@ -95,11 +96,18 @@ namespace TKR::Contact
     state.pressure.assign(nodes.size(), 0.);
     state.gap.assign(nodes.size(), std::numeric_limits<double>::quiet_NaN());
     state.displacement.assign(nodes.size(), Tensor<1, 3>());
+    state.master_displacement = 0;
     if (!qp->lambda_solution.empty())
       {
         std::vector<double> u_surface(B.n_columns());
         for (unsigned int c = 0; c < B.n_columns(); ++c)
           u_surface[c] = qp->x_solution[B.surface_dofs()[c]];
+        for (unsigned int c = B.n_slave_columns(); c < B.n_columns(); c += 3)
+          state.master_displacement =
+            std::max(state.master_displacement,
+                     std::sqrt(u_surface[c] * u_surface[c] +
+                               u_surface[c + 1] * u_surface[c + 1] +
+                               u_surface[c + 2] * u_surface[c + 2]));
         for (unsigned int j = 0; j < nodes.size(); ++j)
           {
             for (unsigned int e = 0; e < 3; ++e)

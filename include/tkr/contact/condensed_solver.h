@@ -118,6 +118,8 @@ namespace TKR::Contact
     {
       std::vector<double> surface;
       std::vector<double> observations;
+      /** The largest absolute surface value. */
+      double peak = 0;
     };
 
     /** Forget all stored columns. */

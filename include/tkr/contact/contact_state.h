@@ -25,6 +25,12 @@ namespace TKR::Contact
     std::vector<double> gap;
     /** Displacement of each slave node (mm, global frame). */
     std::vector<dealii::Tensor<1, 3>> displacement;
+    /**
+     * The largest displacement of a master node (mm), or a bound of it
+     * (the condensed active set, which does not compute the master
+     * surface's displacement).
+     */
+    double master_displacement = 0;
 
     /** Number of active nodes. */
     unsigned int
