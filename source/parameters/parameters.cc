@@ -293,6 +293,18 @@ namespace TKR::Parameters
                         "Master faces farther than this (mm) from a slave "
                         "face are not coupled to it. Larger than any gap "
                         "that can close in one solve.");
+      prm.declare_entry(
+        "Coupling window",
+        "0.05",
+        Patterns::Double(0),
+        "Problem = wear: each contact solve of a warm-started step (blocks "
+        "after the first) integrates the mortar coupling only around the "
+        "slave faces that come within this distance (mm) of the femur after "
+        "the displacement of the step's previous solve (and the nodes of "
+        "their faces). After the solve it checks that "
+        "every face left out stayed at least half of it away; if not, the "
+        "solve is repeated with the whole search distance. The results do "
+        "not change, only the cost. 0: always the whole search distance.");
       prm.declare_entry("Initial contact distance",
                         "0.01",
                         Patterns::Double(0),
@@ -323,6 +335,7 @@ namespace TKR::Parameters
       tolerance                = prm.get_double("Tolerance");
       max_iterations           = prm.get_integer("Max iterations");
       search_distance          = prm.get_double("Search distance");
+      coupling_window          = prm.get_double("Coupling window");
       initial_contact_distance = prm.get_double("Initial contact distance");
       overlap_tolerance        = prm.get_double("Overlap tolerance");
     }

@@ -199,16 +199,34 @@ namespace TKR::Problems
             lift < std::numeric_limits<double>::max())
           pose.translation[2] = lift;
       }
+    // The coupling window (Mortar::CouplingWindow) follows the face
+    // clearances of the step's previous solve, if the step is warm started
+    // (from the previous block): a cold step's first solves are too far
+    // from its end for a narrow window. A solve that leaves it is repeated
+    // on the whole search distance.
+    Mortar::CouplingWindow window;
+    window.width = parameters.contact_solver.coupling_window;
+    if (parameters.wear.warm_start)
+      window.face_clearance = starts[step].face_clearance;
+    const bool use_window = window.width > 0 && !window.face_clearance.empty();
+    const auto couple = [&](const Gait::PoseState &pose, const bool narrow) {
+      TimerOutput::Scope scope(model.timer, "mortar coupling");
+      model.coupling->reinit(step_positions(motion, pose.translation),
+                             parameters.contact_solver.search_distance,
+                             motion.rotation,
+                             narrow ? &window : nullptr);
+    };
     Contact::ContactStatistics statistics;
     unsigned int               newton_iterations = 0, n_solves = 0;
     const auto                 solve = [&](const Gait::PoseState &pose,
                            Gait::InferiorMotion  &inferior) {
-      {
-        TimerOutput::Scope scope(model.timer, "mortar coupling");
-        model.coupling->reinit(step_positions(motion, pose.translation),
-                               parameters.contact_solver.search_distance,
-                               motion.rotation);
-      }
+      bool narrow = use_window;
+      couple(pose, narrow);
+      if (narrow && model.coupling->statistics().n_covered_nodes == 0)
+        {
+          narrow = false;
+          couple(pose, narrow);
+        }
       AssertThrow(model.coupling->statistics().n_covered_nodes > 0,
                   ExcInputError("Gait step " + std::to_string(step) +
                                 ": no part of tibia_contact faces "
@@ -223,6 +241,22 @@ namespace TKR::Problems
                       parameters.contact_solver.initial_contact_distance,
                       state);
       newton_iterations += statistics.newton_iterations;
+      if (narrow && !model.coupling->window_holds(state.displacement,
+                                                  state.master_displacement))
+        {
+          ++window_misses;
+          couple(pose, false);
+          statistics =
+            solver->solve(model.mapping(),
+                          tibia_pose->load_coefficients(gait, pose),
+                          parameters.contact_solver.initial_contact_distance,
+                          state);
+          newton_iterations += statistics.newton_iterations;
+        }
+      if (window.width > 0)
+        window.face_clearance =
+          model.coupling->face_clearances(state.displacement,
+                                          state.master_displacement);
       inferior = Gait::TibiaPose::motion_from({{solver->observation(0),
                                                 solver->observation(1),
                                                 solver->observation(2),
@@ -250,7 +284,7 @@ namespace TKR::Problems
     report.converged         = statistics.converged && iteration.converged;
     report.pose_converged    = iteration.converged;
     report.wall_time         = step_timer.wall_time();
-    starts[step]             = {pose, state.active};
+    starts[step]             = {pose, state.active, window.face_clearance};
     if (groups.n_groups == 1 && (print || !report.converged))
       model.pcout << Output::step_line(step, report, parameters.output.testing)
                   << std::endl;

@@ -393,6 +393,15 @@ namespace TKR::Problems
         extrapolate();
         finish_block(block_timer.wall_time());
       }
+    if (parameters.contact_solver.coupling_window > 0 &&
+        !parameters.output.testing)
+      model.pcout << "Coupling window: "
+                  << Utilities::MPI::sum(groups.is_group_root ?
+                                           cycle.n_window_misses() :
+                                           0u,
+                                         model.world)
+                  << " contact solves repeated on the whole search distance"
+                  << std::endl;
     output_results();
     return model.finish(state.converged);
   }

@@ -226,6 +226,8 @@ namespace TKR::Parameters
     unsigned int max_iterations;
     /** Master faces farther than this (mm) from a slave face are ignored. */
     double search_distance;
+    /** Width of the coupling window of the gait's solves (mm, 0: none). */
+    double coupling_window;
     /** Nodes with an initial gap up to this (mm) start active. */
     double initial_contact_distance;
     /** A gap below minus this (mm) means the bodies overlap: refused. */

@@ -109,6 +109,14 @@ namespace TKR::Problems
       return reports;
     }
 
+    /** Contact solves of this rank repeated because they left the
+     *  coupling window (`Contact solver/Coupling window`). */
+    unsigned int
+    n_window_misses() const
+    {
+      return window_misses;
+    }
+
     /** The mortar coupling (D_jj of the tibia_contact nodes). */
     const Mortar::MortarCoupling &
     get_coupling() const
@@ -166,6 +174,7 @@ namespace TKR::Problems
     std::vector<Wear::StepRecord>           records;
     std::vector<Wear::StepReport>           reports;
     std::vector<Wear::StepStart>            starts;
+    unsigned int                            window_misses = 0;
 
     /** What the VTU of a step needs (its solution, state and motion). */
     struct SavedStep

@@ -97,12 +97,16 @@ namespace TKR::Wear
   {
     Gait::PoseState   pose;
     std::vector<bool> active;
+    /** The face clearances of the step's last solve, for the coupling
+     *  window of the next one (Mortar::CouplingWindow; not checkpointed:
+     *  it changes the cost, not the result). */
+    std::vector<double> face_clearance;
 
     template <class Archive>
     void
     serialize(Archive &archive, const unsigned int)
     {
-      archive &pose &active;
+      archive &pose &active &face_clearance;
     }
   };
 
