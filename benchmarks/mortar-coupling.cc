@@ -64,12 +64,9 @@ main(int argc, char **argv)
                                       Mesh::BoundaryIds::femur_contact);
   Mortar::MortarCoupling       coupling(slave, master);
 
-  std::vector<Point<3>> positions = triangulation.get_vertices();
-  std::vector<bool>     is_femur(positions.size(), false);
-  for (const auto &cell : triangulation.active_cell_iterators())
-    if (cell->material_id() == Mesh::MaterialIds::femur)
-      for (const auto v : cell->vertex_indices())
-        is_femur[cell->vertex_index(v)] = true;
+  std::vector<Point<3>>   positions = triangulation.get_vertices();
+  const std::vector<bool> is_femur =
+    Mesh::material_vertices(triangulation, Mesh::MaterialIds::femur);
   for (unsigned int v = 0; v < positions.size(); ++v)
     if (is_femur[v])
       {

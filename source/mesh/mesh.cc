@@ -269,6 +269,18 @@ namespace TKR::Mesh
                                 "faces are not on the boundary)."));
   }
 
+  std::vector<bool>
+  material_vertices(const Triangulation<3>  &triangulation,
+                    const types::material_id material_id)
+  {
+    std::vector<bool> result(triangulation.n_vertices(), false);
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->material_id() == material_id)
+        for (const auto v : cell->vertex_indices())
+          result[cell->vertex_index(v)] = true;
+    return result;
+  }
+
   MeshStatistics
   compute_statistics(const Triangulation<3> &triangulation)
   {

@@ -42,11 +42,8 @@ namespace TKR::Problems
     pcout << "Degrees of freedom: " << dof_handler.n_dofs()
           << ", MPI ranks: " << Utilities::MPI::n_mpi_processes(model.world)
           << " in " << groups.n_groups << " step group(s)" << std::endl;
-    is_femur_vertex.assign(model.triangulation.n_vertices(), false);
-    for (const auto &cell : model.triangulation.active_cell_iterators())
-      if (cell->material_id() == Mesh::MaterialIds::femur)
-        for (const auto v : cell->vertex_indices())
-          is_femur_vertex[cell->vertex_index(v)] = true;
+    is_femur_vertex =
+      Mesh::material_vertices(model.triangulation, Mesh::MaterialIds::femur);
 
     // The femur is clamped on its fixation surface (in its co-rotated
     // frame); the tibia has no displacement condition.

@@ -44,12 +44,9 @@ namespace
   moved(const Triangulation<3>                          &triangulation,
         const std::function<Point<3>(const Point<3> &)> &motion)
   {
-    std::vector<Point<3>> x = triangulation.get_vertices();
-    std::vector<bool>     is_femur(x.size(), false);
-    for (const auto &cell : triangulation.active_cell_iterators())
-      if (cell->material_id() == Mesh::MaterialIds::femur)
-        for (const auto v : cell->vertex_indices())
-          is_femur[cell->vertex_index(v)] = true;
+    std::vector<Point<3>>   x = triangulation.get_vertices();
+    const std::vector<bool> is_femur =
+      Mesh::material_vertices(triangulation, Mesh::MaterialIds::femur);
     for (unsigned int v = 0; v < x.size(); ++v)
       if (is_femur[v])
         x[v] = motion(x[v]);

@@ -99,6 +99,12 @@ namespace TKR::Mesh
   MeshStatistics
   compute_statistics(const dealii::Triangulation<3> &triangulation);
 
+  /** Which vertices belong to a cell of material @p material_id (by
+   *  vertex index). */
+  std::vector<bool>
+  material_vertices(const dealii::Triangulation<3>  &triangulation,
+                    const dealii::types::material_id material_id);
+
   /** The name of a boundary id (for messages). */
   std::string
   boundary_name(const dealii::types::boundary_id id);
