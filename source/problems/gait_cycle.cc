@@ -232,23 +232,21 @@ namespace TKR::Problems
       if (step == 0 && n_solves == 0)
         check_initial_overlap();
       ++n_solves;
-      statistics =
-        solver->solve(model.mapping(),
-                      tibia_pose->load_coefficients(gait, pose),
-                      parameters.contact_solver.initial_contact_distance,
-                      state);
-      newton_iterations += statistics.newton_iterations;
+      const auto contact_solve = [&]() {
+        statistics =
+          solver->solve(model.mapping(),
+                        tibia_pose->load_coefficients(gait, pose),
+                        parameters.contact_solver.initial_contact_distance,
+                        state);
+        newton_iterations += statistics.newton_iterations;
+      };
+      contact_solve();
       if (narrow && !model.coupling->window_holds(state.displacement,
                                                   state.master_displacement))
         {
           ++window_misses;
           couple(pose, false);
-          statistics =
-            solver->solve(model.mapping(),
-                          tibia_pose->load_coefficients(gait, pose),
-                          parameters.contact_solver.initial_contact_distance,
-                          state);
-          newton_iterations += statistics.newton_iterations;
+          contact_solve();
         }
       if (window.width > 0)
         window.face_clearance =
