@@ -20,15 +20,11 @@
 
 #include <deal.II/base/numbers.h>
 
-#include <deal.II/dofs/dof_handler.h>
-
-#include <deal.II/fe/fe_q.h>
-#include <deal.II/fe/fe_system.h>
-
 #include <tkr/mesh/mesh.h>
 #include <tkr/mortar/mortar_coupling.h>
 
 #include "../tests.h"
+#include "surface_pair.h"
 
 namespace
 {
@@ -84,18 +80,12 @@ namespace
   check(const std::string &name, const double degrees)
   {
     Triangulation<3> triangulation;
-    Mesh::read_mesh(Parameters::Mesh::with_default_groups(
-                      std::string(SOURCE_DIR) + "/../../meshes/tkr/" + name),
-                    triangulation);
-    const FESystem<3> fe(FE_Q<3>(1), 3);
-    DoFHandler<3>     dof_handler(triangulation);
-    dof_handler.distribute_dofs(fe);
-    const Mortar::ContactSurface slave(dof_handler,
-                                       Mesh::BoundaryIds::tibia_contact);
-    const Mortar::ContactSurface master(dof_handler,
-                                        Mesh::BoundaryIds::femur_contact);
-    Mortar::MortarCoupling       full(slave, master), narrow(slave, master);
-    const double                 search_distance = 2;
+    read_test_mesh("tkr/" + name, triangulation);
+    const SurfacePair      surfaces(triangulation);
+    const auto            &slave = surfaces.slave;
+    Mortar::MortarCoupling full(slave, surfaces.master),
+      narrow(slave, surfaces.master);
+    const double search_distance = 2;
 
     // Flexed: lower the femur until it touches (the smallest mean gap).
     std::vector<Point<3>> x = femur_moved(triangulation, degrees, 0.);

@@ -12,17 +12,13 @@
 
 #include <deal.II/distributed/shared_tria.h>
 
-#include <deal.II/dofs/dof_handler.h>
-
-#include <deal.II/fe/fe_q.h>
-#include <deal.II/fe/fe_system.h>
-
 #include <deal.II/grid/grid_generator.h>
 
 #include <tkr/mesh/mesh.h>
 #include <tkr/mortar/mortar_coupling.h>
 
 #include "../tests.h"
+#include "surface_pair.h"
 
 namespace
 {
@@ -91,21 +87,13 @@ main(int argc, char **argv)
 {
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   initlog();
-  const FESystem<3> fe(FE_Q<3>(1), 3);
 
   {
     deallog.push("flat");
-    Parameters::Mesh parameters = Parameters::Mesh::with_default_groups(
-      std::string(SOURCE_DIR) + "/../../meshes/verification/patch-coarse.msh");
     Triangulation<3> triangulation;
-    Mesh::read_mesh(parameters, triangulation);
-    DoFHandler<3> dof_handler(triangulation);
-    dof_handler.distribute_dofs(fe);
-    const Mortar::ContactSurface slave(dof_handler,
-                                       Mesh::BoundaryIds::tibia_contact);
-    const Mortar::ContactSurface master(dof_handler,
-                                        Mesh::BoundaryIds::femur_contact);
-    Mortar::MortarCoupling       coupling(slave, master);
+    read_test_mesh("verification/patch-coarse.msh", triangulation);
+    const SurfacePair      surfaces(triangulation);
+    Mortar::MortarCoupling coupling(surfaces.slave, surfaces.master);
     coupling.reinit(triangulation.get_vertices(), 1.);
     check(coupling, triangulation.get_vertices(), 400., 5., true);
     deallog.pop();
@@ -143,13 +131,8 @@ main(int argc, char **argv)
                                            Mesh::BoundaryIds::free);
             }
       }
-    DoFHandler<3> dof_handler(triangulation);
-    dof_handler.distribute_dofs(fe);
-    const Mortar::ContactSurface slave(dof_handler,
-                                       Mesh::BoundaryIds::tibia_contact);
-    const Mortar::ContactSurface master(dof_handler,
-                                        Mesh::BoundaryIds::femur_contact);
-    Mortar::MortarCoupling       coupling(slave, master);
+    const SurfacePair      surfaces(triangulation);
+    Mortar::MortarCoupling coupling(surfaces.slave, surfaces.master);
     coupling.reinit(triangulation.get_vertices(), 1.);
     const double faceted_area =
       n_slave * 2. * R * std::sin(numbers::PI / n_slave) * L;

@@ -23,17 +23,13 @@
 //     gap at the node; at partly covered nodes a mean of the gap over the
 //     covered part of the support, within the range of the gap there.
 
-#include <deal.II/dofs/dof_handler.h>
-
-#include <deal.II/fe/fe_q.h>
-#include <deal.II/fe/fe_system.h>
-
 #include <tkr/mesh/mesh.h>
 #include <tkr/mortar/mortar_coupling.h>
 
 #include <functional>
 
 #include "../tests.h"
+#include "surface_pair.h"
 
 namespace
 {
@@ -109,20 +105,13 @@ main(int argc, char **argv)
 {
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   initlog();
-  const FESystem<3> fe(FE_Q<3>(1), 3);
-  Triangulation<3>  triangulation;
-  Mesh::read_mesh(Parameters::Mesh::with_default_groups(
-                    std::string(SOURCE_DIR) +
-                    "/../../meshes/verification/patch-unstructured.msh"),
-                  triangulation);
-  DoFHandler<3> dof_handler(triangulation);
-  dof_handler.distribute_dofs(fe);
-  const Mortar::ContactSurface slave(dof_handler,
-                                     Mesh::BoundaryIds::tibia_contact);
-  const Mortar::ContactSurface master(dof_handler,
-                                      Mesh::BoundaryIds::femur_contact);
-  Mortar::MortarCoupling       coupling(slave, master);
-  const double                 g0 = 0.25, slope = 0.01;
+  Triangulation<3> triangulation;
+  read_test_mesh("verification/patch-unstructured.msh", triangulation);
+  const SurfacePair             surfaces(triangulation);
+  const Mortar::ContactSurface &slave  = surfaces.slave,
+                               &master = surfaces.master;
+  Mortar::MortarCoupling coupling(slave, master);
+  const double           g0 = 0.25, slope = 0.01;
 
   {
     deallog.push("touching");
