@@ -29,6 +29,7 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <tkr/elasticity/direct_solver.h>
+#include <tkr/elasticity/elastic_system.h>
 #include <tkr/elasticity/linear_elasticity.h>
 #include <tkr/mesh/mesh.h>
 #include <tkr/mortar/contact_surface.h>
@@ -405,14 +406,15 @@ main(int argc, char **argv)
                                            Functions::ZeroFunction<3>(3),
                                            c);
   c.close();
-  el.setup_system(c);
+  TKR::Elasticity::ElasticSystem system(el);
+  system.setup(c);
   Elasticity::BoundaryLoads loads;
   Tensor<2, 3>              S;
   S[0][0] = S[1][1] = S[2][2]                      = 0.1;
   loads.springs[Mesh::BoundaryIds::tibia_inferior] = S;
-  el.assemble_system(mapping, c, loads);
+  system.assemble(mapping, c, loads);
   print("DoFs", el.get_dof_handler().n_dofs());
-  print("nonzeros of K", el.get_system_matrix().n_nonzero_elements());
+  print("nonzeros of K", system.matrix().n_nonzero_elements());
   print("MPI ranks", Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD));
   print("BLAS threads (0: not set)", Elasticity::DirectSolver::blas_threads());
   if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
@@ -420,7 +422,7 @@ main(int argc, char **argv)
               << Elasticity::DirectSolver::blas_library() << std::endl;
 
   Epetra_CrsMatrix &A =
-    const_cast<Epetra_CrsMatrix &>(el.get_system_matrix().trilinos_matrix());
+    const_cast<Epetra_CrsMatrix &>(system.matrix().trilinos_matrix());
   if (solver_type == "orderings")
     time_orderings(A);
   else if (solver_type == "forward")
@@ -439,5 +441,5 @@ main(int argc, char **argv)
       time_forward(A, surface, n_rhs);
     }
   else
-    time_solver(solver_type, A, el.get_system_matrix(), n_rhs);
+    time_solver(solver_type, A, system.matrix(), n_rhs);
 }

@@ -13,14 +13,15 @@ namespace TKR::Contact
 {
   using namespace dealii;
 
-  ActiveSetSolver::ActiveSetSolver(Elasticity::LinearElasticity    &elasticity,
-                                   const Mortar::MortarCoupling    &coupling,
-                                   const Parameters::ContactSolver &parameters,
-                                   const double   slave_youngs_modulus,
-                                   const MPI_Comm mpi_communicator,
-                                   const ConditionalOStream &pcout,
-                                   TimerOutput              &timer,
-                                   const bool                testing)
+  ActiveSetSolver::ActiveSetSolver(
+    const Elasticity::LinearElasticity &elasticity,
+    const Mortar::MortarCoupling       &coupling,
+    const Parameters::ContactSolver    &parameters,
+    const double                        slave_youngs_modulus,
+    const MPI_Comm                      mpi_communicator,
+    const ConditionalOStream           &pcout,
+    TimerOutput                        &timer,
+    const bool                          testing)
     : ContactSolver(elasticity,
                     coupling,
                     parameters,
@@ -29,6 +30,7 @@ namespace TKR::Contact
                     pcout,
                     timer)
     , testing(testing)
+    , system(elasticity)
   {}
 
   void
@@ -96,9 +98,13 @@ namespace TKR::Contact
   {
     const auto                   &nodes = coupling.slave_nodes();
     TrilinosWrappers::MPI::Vector residual;
-    elasticity.compute_residual(mapping, loads, slave_dofs, residual);
+    elasticity.compute_residual(mapping,
+                                loads,
+                                system.solution(),
+                                slave_dofs,
+                                residual);
     const std::vector<double> r = gather(B, residual);
-    const std::vector<double> u = gather(B, elasticity.get_solution());
+    const std::vector<double> u = gather(B, system.solution());
     state.master_displacement   = 0;
     for (unsigned int c = B.n_slave_columns(); c < B.n_columns(); c += 3)
       state.master_displacement =
@@ -141,7 +147,7 @@ namespace TKR::Contact
     const ActiveSetUpdate           &active_set_update,
     const bool                       warm_start,
     ContactState                    &state,
-    unsigned int                    &n_changed) const
+    unsigned int                    &n_changed)
   {
     const auto  &nodes           = coupling.slave_nodes();
     const auto  &linear          = elasticity.get_solver_parameters();
@@ -167,14 +173,13 @@ namespace TKR::Contact
     bool                         certain = false;
     if (loose > tight)
       {
-        statistics = elasticity.solve(constraints,
-                                      std::max(tight, 10. * loose),
-                                      warm_start);
+        statistics =
+          system.solve(constraints, std::max(tight, 10. * loose), warm_start);
         if (statistics.converged)
           {
             evaluate_state(mapping, loads, B, slave_dofs, state);
             const std::vector<double> rough = complementarity();
-            add(statistics, elasticity.solve(constraints, loose, true));
+            add(statistics, system.solve(constraints, loose, true));
             if (statistics.converged)
               {
                 evaluate_state(mapping, loads, B, slave_dofs, state);
@@ -192,7 +197,7 @@ namespace TKR::Contact
       }
     if (loose <= tight || statistics.converged)
       add(statistics,
-          elasticity.solve(constraints, tight, loose > tight || warm_start));
+          system.solve(constraints, tight, loose > tight || warm_start));
     evaluate_state(mapping, loads, B, slave_dofs, state);
     n_changed = active_set_update.count_changes(coupling, state);
     return statistics;
@@ -222,7 +227,7 @@ namespace TKR::Contact
       for (unsigned int j = 0; j < n_slave; ++j)
         all_covered[j] = nodes[j].covered;
       make_constraints(B, all_covered, all_covered_constraints);
-      elasticity.setup_system(all_covered_constraints);
+      system.setup(all_covered_constraints);
       const auto &dofs = B.surface_dofs();
       for (unsigned int j = 0; j < n_slave; ++j)
         for (unsigned int d = 0; d < 3; ++d)
@@ -254,20 +259,20 @@ namespace TKR::Contact
         Timer iteration_timer;
         make_constraints(B, state.active, constraints);
         if (iteration == 1)
-          elasticity.assemble_fixed_cells(mapping,
-                                          constraints,
-                                          loads,
-                                          changing_dofs,
-                                          all_covered_constraints);
+          system.assemble_fixed_cells(mapping,
+                                      constraints,
+                                      loads,
+                                      changing_dofs,
+                                      all_covered_constraints);
         else
-          elasticity.assemble_changing_cells(mapping, constraints, loads);
+          system.assemble_changing_cells(mapping, constraints, loads);
         const bool fresh_preconditioner = rebuild_preconditioner;
         // The AMG hierarchy of the first iteration stays a good
         // preconditioner while only some constraint rows change: it is
         // rebuilt only when that stops being true (see below).
         if (rebuild_preconditioner)
           {
-            elasticity.setup_preconditioner(mapping);
+            system.setup_preconditioner(mapping);
             rebuild_preconditioner = false;
           }
         unsigned int n_changed = 0;
@@ -337,7 +342,7 @@ namespace TKR::Contact
         active_set_update.update(coupling, state);
       }
 
-    observe_solution();
+    observe_solution(system.solution());
     add_contact_results(coupling, state, statistics);
     return statistics;
   }

@@ -26,15 +26,15 @@ namespace TKR::Contact
     const Elasticity::BoundaryLoads &loads)
   {
     ContactSolver::setup(mapping, dirichlet_constraints, loads);
-    elasticity.assemble_system(mapping, dirichlet, loads);
+    system.setup(dirichlet);
+    system.assemble(mapping, dirichlet, loads);
     // The part of the right-hand side that comes from inhomogeneous
-    // Dirichlet values (assemble_rhs() leaves it out).
-    dirichlet_rhs = elasticity.get_system_rhs();
-    elasticity.assemble_rhs(mapping, dirichlet, loads);
-    dirichlet_rhs -= elasticity.get_system_rhs();
+    // Dirichlet values (load_vector() leaves it out).
+    dirichlet_rhs = system.rhs();
+    dirichlet_rhs -= elasticity.load_vector(mapping, dirichlet, loads);
     {
       TimerOutput::Scope scope(timer, "direct factorisation");
-      direct_solver.factorize(elasticity.get_system_matrix());
+      direct_solver.factorize(system.matrix());
     }
 
     surface_dofs    = Mortar::surface_dof_indices(coupling);
@@ -197,8 +197,8 @@ namespace TKR::Contact
   {
     Assert(direct_solver.is_factorized(),
            ExcMessage("Call setup() before solve()."));
-    elasticity.assemble_rhs(mapping, dirichlet, loads);
-    TrilinosWrappers::MPI::Vector f = elasticity.get_system_rhs();
+    TrilinosWrappers::MPI::Vector f =
+      elasticity.load_vector(mapping, dirichlet, loads);
     f += dirichlet_rhs;
     TrilinosWrappers::MPI::Vector u0(f);
     double                        relative_residual;
@@ -207,7 +207,7 @@ namespace TKR::Contact
       direct_solver.solve(u0.trilinos_vector(), f.trilinos_vector());
       TrilinosWrappers::MPI::Vector residual(f);
       relative_residual =
-        elasticity.get_system_matrix().residual(residual, u0, f) /
+        system.matrix().residual(residual, u0, f) /
         std::max(f.l2_norm(), std::numeric_limits<double>::min());
     }
     const std::vector<double> u0_observations = observe(u0.trilinos_vector());
@@ -236,8 +236,7 @@ namespace TKR::Contact
     basis_rhs.clear();
     for (const auto &load : basis)
       {
-        elasticity.assemble_rhs(mapping, dirichlet, load);
-        basis_rhs.push_back(elasticity.get_system_rhs());
+        basis_rhs.push_back(elasticity.load_vector(mapping, dirichlet, load));
       }
     basis_rhs.push_back(dirichlet_rhs);
     const unsigned int n_basis = basis_rhs.size();
@@ -253,10 +252,10 @@ namespace TKR::Contact
         *u.trilinos_vector()(0) = *X(b);
         const double norm       = basis_rhs[b].l2_norm();
         if (norm > 0)
-          basis_residual = std::max(
-            basis_residual,
-            elasticity.get_system_matrix().residual(residual, u, basis_rhs[b]) /
-              norm);
+          basis_residual =
+            std::max(basis_residual,
+                     system.matrix().residual(residual, u, basis_rhs[b]) /
+                       norm);
         dirichlet.distribute(u);
         *X(b) = *u.trilinos_vector()(0);
       }
@@ -510,7 +509,7 @@ namespace TKR::Contact
     return statistics;
   }
 
-  void
+  TrilinosWrappers::MPI::Vector
   CondensedActiveSetSolver::compute_solution()
   {
     TimerOutput::Scope            scope(timer, "direct solve");
@@ -535,6 +534,8 @@ namespace TKR::Contact
     TrilinosWrappers::MPI::Vector u(f);
     direct_solver.solve(u.trilinos_vector(), f.trilinos_vector());
     dirichlet.distribute(u);
-    elasticity.set_solution(u);
+    TrilinosWrappers::MPI::Vector solution = elasticity.make_ghosted_vector();
+    solution                               = u;
+    return solution;
   }
 } // namespace TKR::Contact

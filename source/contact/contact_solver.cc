@@ -12,9 +12,9 @@ namespace TKR::Contact
 {
   using namespace dealii;
 
-  ContactSolver::ContactSolver(Elasticity::LinearElasticity    &elasticity,
-                               const Mortar::MortarCoupling    &coupling,
-                               const Parameters::ContactSolver &parameters,
+  ContactSolver::ContactSolver(const Elasticity::LinearElasticity &elasticity,
+                               const Mortar::MortarCoupling       &coupling,
+                               const Parameters::ContactSolver    &parameters,
                                const double              slave_youngs_modulus,
                                const MPI_Comm            mpi_communicator,
                                const ConditionalOStream &pcout,
@@ -40,8 +40,6 @@ namespace TKR::Contact
     dirichlet.copy_from(dirichlet_constraints);
     observation_weights.clear();
     observed.clear();
-    // A system of the right size (e.g. for assembling observation weights).
-    elasticity.setup_system(dirichlet);
   }
 
   void
@@ -83,9 +81,8 @@ namespace TKR::Contact
   // these depend on: w . u then equals the functional of the full
   // displacement.
   void
-  ContactSolver::observe_solution()
+  ContactSolver::observe_solution(const TrilinosWrappers::MPI::Vector &u)
   {
-    const auto &u = elasticity.get_solution();
     for (unsigned int m = 0; m < observation_weights.size(); ++m)
       {
         double value = 0;
@@ -107,12 +104,12 @@ namespace TKR::Contact
   }
 
   std::unique_ptr<ContactSolver>
-  create_contact_solver(const Parameters::AllParameters &parameters,
-                        Elasticity::LinearElasticity    &elasticity,
-                        const Mortar::MortarCoupling    &coupling,
-                        const MPI_Comm                   mpi_communicator,
-                        const ConditionalOStream        &pcout,
-                        TimerOutput                     &timer)
+  create_contact_solver(const Parameters::AllParameters    &parameters,
+                        const Elasticity::LinearElasticity &elasticity,
+                        const Mortar::MortarCoupling       &coupling,
+                        const MPI_Comm                      mpi_communicator,
+                        const ConditionalOStream           &pcout,
+                        TimerOutput                        &timer)
   {
     const auto algorithm =
       resolve_algorithm(parameters.contact_solver.algorithm,

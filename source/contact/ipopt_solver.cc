@@ -6,6 +6,7 @@
 #include <tkr/base/exceptions.h>
 #include <tkr/contact/ipopt_qp_loader.h>
 #include <tkr/contact/ipopt_solver.h>
+#include <tkr/elasticity/elastic_system.h>
 
 #include <cmath>
 #include <limits>
@@ -29,16 +30,17 @@ namespace TKR::Contact
 
     // The unconstrained stiffness matrix and load vector.
     const AffineConstraints<double> none;
-    elasticity.setup_system(none);
-    elasticity.assemble_system(mapping, none, loads);
-    const auto        &K = elasticity.get_system_matrix();
+    Elasticity::ElasticSystem       system(elasticity);
+    system.setup(none);
+    system.assemble(mapping, none, loads);
+    const auto        &K = system.matrix();
     const unsigned int n = elasticity.get_dof_handler().n_dofs();
 
     // The QP; Ipopt itself runs in a plugin (see solve_with_ipopt()).
     auto qp = std::make_unique<QuadraticProgram>();
     qp->f.resize(n);
     for (unsigned int i = 0; i < n; ++i)
-      qp->f[i] = elasticity.get_system_rhs()[i];
+      qp->f[i] = system.rhs()[i];
     for (unsigned int row = 0; row < n; ++row)
       for (auto entry = K.begin(row); entry != K.end(row); ++entry)
         if (entry->column() <= row && entry->value() != 0.)
@@ -79,13 +81,14 @@ namespace TKR::Contact
 
     solve_with_ipopt(*qp, 1e-2 * parameters.tolerance, 500);
 
-    // Back into the elasticity solution and the contact state.
+    // The solution and the contact state.
     TrilinosWrappers::MPI::Vector u(elasticity.locally_owned_dofs(),
                                     mpi_communicator);
     for (unsigned int i = 0; i < n; ++i)
       u[i] = qp->x_solution.empty() ? 0. : qp->x_solution[i];
     u.compress(VectorOperation::insert);
-    elasticity.set_solution(u);
+    solution = elasticity.make_ghosted_vector();
+    solution = u;
 
     ContactStatistics statistics;
     statistics.converged         = qp->converged();

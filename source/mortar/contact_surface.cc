@@ -2,6 +2,7 @@
 // This file is part of tkr-wear.
 
 #include <deal.II/base/geometry_info.h>
+#include <deal.II/base/quadrature_lib.h>
 
 #include <deal.II/fe/fe.h>
 
@@ -54,6 +55,42 @@ namespace TKR::Mortar
     for (unsigned int f = 0; f < face_list.size(); ++f)
       for (const unsigned int n : face_list[f].nodes)
         faces_of_node[n].push_back(f);
+  }
+
+  // phi_j integrated over the faces around node j with the face's area
+  // element |dA| and its area normal dA (outward: the sign of
+  // orientation()).
+  ContactSurface::NodalMeasures
+  ContactSurface::nodal_measures(const std::vector<Point<3>> &positions) const
+  {
+    NodalMeasures measures;
+    measures.area.assign(node_list.size(), 0.);
+    measures.normal.assign(node_list.size(), Tensor<1, 3>());
+    const QGauss<2> face_quadrature(2);
+    for (unsigned int e = 0; e < face_list.size(); ++e)
+      {
+        const BilinearQuad quad{face_vertices(e, positions)};
+        const double       sign = orientation(e, positions);
+        for (unsigned int q = 0; q < face_quadrature.size(); ++q)
+          {
+            const auto N = BilinearQuad::shape_values(face_quadrature.point(q));
+            const Tensor<1, 3> dA = sign *
+                                    quad.area_normal(face_quadrature.point(q)) *
+                                    face_quadrature.weight(q);
+            for (unsigned int i = 0; i < 4; ++i)
+              {
+                const unsigned int j = face_list[e].nodes[i];
+                measures.area[j] += N[i] * dA.norm();
+                measures.normal[j] += N[i] * dA;
+              }
+          }
+      }
+    for (unsigned int j = 0; j < node_list.size(); ++j)
+      {
+        measures.normal[j] /= measures.normal[j].norm();
+        measures.total_area += measures.area[j];
+      }
+    return measures;
   }
 
   std::array<Point<3>, 4>

@@ -105,14 +105,18 @@ namespace TKR::Mortar
     slave_cache = std::make_shared<SlaveCache>();
     for (const auto &node : slave_nodes)
       slave_cache->positions.push_back(positions[node.vertex]);
+    // D_jj = int phi_j and the nodal normals over the whole slave surface.
+    const auto measures = slave.nodal_measures(positions);
+    slave_cache->D      = measures.area;
+    slave_cache->normal = measures.normal;
+    slave_cache->area   = measures.total_area;
+    // The projections below read the normals of the nodes.
     nodes.assign(slave_nodes.size(), SlaveNode());
-    compute_nodal_areas_and_normals(positions);
-    for (const auto &node : nodes)
+    for (unsigned int j = 0; j < nodes.size(); ++j)
       {
-        slave_cache->D.push_back(node.D);
-        slave_cache->normal.push_back(node.normal);
+        nodes[j].D      = measures.area[j];
+        nodes[j].normal = measures.normal[j];
       }
-    slave_cache->area          = stats.slave_area;
     const unsigned int n_faces = slave.faces().size();
     slave_cache->projections.resize(n_faces);
     slave_cache->exact.resize(n_faces);
@@ -183,40 +187,6 @@ namespace TKR::Mortar
     for (unsigned int e = 0; e < n_faces; ++e)
       assemble_face(e, positions, accumulator);
     finish_nodes(positions, master_rotation, left_out, accumulator);
-  }
-
-  // D_jj = int phi_j and the nodal normals n_j = int phi_j n / |...| over
-  // the whole slave surface (2x2 Gauss points per face: exact for flat
-  // faces).
-  void
-  MortarCoupling::compute_nodal_areas_and_normals(
-    const std::vector<Point<3>> &positions)
-  {
-    const auto     &slave_faces = slave.faces();
-    const QGauss<2> face_quadrature(2);
-    for (unsigned int e = 0; e < slave_faces.size(); ++e)
-      {
-        const BilinearQuad quad{slave.face_vertices(e, positions)};
-        const double       sign = slave.orientation(e, positions);
-        for (unsigned int q = 0; q < face_quadrature.size(); ++q)
-          {
-            const auto N = BilinearQuad::shape_values(face_quadrature.point(q));
-            const Tensor<1, 3> dA = sign *
-                                    quad.area_normal(face_quadrature.point(q)) *
-                                    face_quadrature.weight(q);
-            for (unsigned int i = 0; i < 4; ++i)
-              {
-                SlaveNode &node = nodes[slave_faces[e].nodes[i]];
-                node.D += N[i] * dA.norm();
-                node.normal += N[i] * dA;
-              }
-          }
-      }
-    for (auto &node : nodes)
-      {
-        node.normal /= node.normal.norm();
-        stats.slave_area += node.D;
-      }
   }
 
   // The plane: normal to the averaged nodal normal, or to the face's own

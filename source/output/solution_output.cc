@@ -51,8 +51,58 @@ namespace TKR::Output
     out << "Results in <" << directory << "/>" << std::endl;
   }
 
+  VertexFields::VertexFields(const Triangulation<3> &triangulation)
+    : fe(1)
+    , dof_handler(triangulation)
+  {
+    dof_handler.distribute_dofs(fe);
+    dof_of_vertex.assign(triangulation.n_vertices(),
+                         numbers::invalid_dof_index);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      for (const auto v : cell->vertex_indices())
+        dof_of_vertex[cell->vertex_index(v)] = cell->vertex_dof_index(v, 0);
+  }
+
+  void
+  VertexFields::add(const std::string &name, const std::vector<double> &values)
+  {
+    AssertDimension(values.size(), dof_of_vertex.size());
+    Vector<double> field(dof_handler.n_dofs());
+    for (unsigned int v = 0; v < values.size(); ++v)
+      if (dof_of_vertex[v] != numbers::invalid_dof_index)
+        field(dof_of_vertex[v]) = values[v];
+    fields.emplace_back(name, std::move(field));
+  }
+
+  void
+  VertexFields::add(const SurfaceFields &surface_fields)
+  {
+    AssertDimension(surface_fields.names.size(), surface_fields.values.size());
+    const auto &nodes = surface_fields.surface->nodes();
+    for (unsigned int i = 0; i < surface_fields.names.size(); ++i)
+      {
+        std::vector<double> values(dof_of_vertex.size(), 0.);
+        const auto         &field = surface_fields.values[i];
+        for (unsigned int j = 0; j < field.size(); ++j)
+          values[nodes[j].vertex] = field[j];
+        add(surface_fields.names[i], values);
+      }
+  }
+
+  void
+  VertexFields::attach(DataOut<3> &data_out) const
+  {
+    for (const auto &[name, field] : fields)
+      data_out.add_data_vector(
+        dof_handler,
+        field,
+        name,
+        {DataComponentInterpretation::component_is_scalar});
+  }
+
   void
   write_solution(const Elasticity::LinearElasticity      &elasticity,
+                 const TrilinosWrappers::MPI::Vector     &solution,
                  const Mapping<3>                        &mapping,
                  VtuSeries                               &series,
                  const unsigned int                       index,
@@ -66,7 +116,7 @@ namespace TKR::Output
     DataOut<3> data_out;
     data_out.attach_dof_handler(dof_handler);
     data_out.add_data_vector(
-      elasticity.get_solution(),
+      solution,
       std::vector<std::string>(3, "displacement"),
       DataOut<3>::type_dof_data,
       std::vector<DataComponentInterpretation::DataComponentInterpretation>(
@@ -75,8 +125,8 @@ namespace TKR::Output
     const Elasticity::StressPostprocessor   stress(elasticity.get_materials());
     const Elasticity::VonMisesPostprocessor von_mises(
       elasticity.get_materials());
-    data_out.add_data_vector(elasticity.get_solution(), stress);
-    data_out.add_data_vector(elasticity.get_solution(), von_mises);
+    data_out.add_data_vector(solution, stress);
+    data_out.add_data_vector(solution, von_mises);
 
     Vector<float> material(triangulation.n_active_cells());
     Vector<float> subdomain(triangulation.n_active_cells());
@@ -87,24 +137,12 @@ namespace TKR::Output
       }
     data_out.add_data_vector(material, "material_id");
     data_out.add_data_vector(subdomain, "subdomain");
-    // DataOut keeps references: the vectors live until the patches are
+    // DataOut keeps references: the fields live until the patches are
     // built.
-    std::vector<Vector<double>> surface_vectors(surface_fields.size(),
-                                                Vector<double>(
-                                                  dof_handler.n_dofs()));
-    for (unsigned int i = 0; i < surface_fields.size(); ++i)
-      {
-        const auto &fields = surface_fields[i];
-        Assert(fields.values.size() <= 3 && fields.names.size() == 3,
-               ExcMessage("Three names and at most three fields."));
-        for (unsigned int c = 0; c < fields.values.size(); ++c)
-          for (unsigned int j = 0; j < fields.values[c].size(); ++j)
-            surface_vectors[i](fields.surface->nodes()[j].dofs[c]) =
-              fields.values[c][j];
-        data_out.add_data_vector(surface_vectors[i],
-                                 fields.names,
-                                 DataOut<3>::type_dof_data);
-      }
+    VertexFields vertex_fields(triangulation);
+    for (const auto &fields : surface_fields)
+      vertex_fields.add(fields);
+    vertex_fields.attach(data_out);
     if (add_fields)
       add_fields(data_out);
     data_out.build_patches(mapping, dof_handler.get_fe().degree);

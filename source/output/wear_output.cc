@@ -104,14 +104,14 @@ namespace TKR::Output
   // elastic displacement is stored in its co-rotated frame, so its points
   // move by M(X) + R u - X.
   void
-  write_step(const Elasticity::LinearElasticity &elasticity,
-             const Mapping<3>                   &mapping,
-             const StepFields                   &fields,
-             VtuSeries                          &series,
-             const unsigned int                  index)
+  write_step(const Elasticity::LinearElasticity  &elasticity,
+             const TrilinosWrappers::MPI::Vector &solution,
+             const Mapping<3>                    &mapping,
+             const StepFields                    &fields,
+             VtuSeries                           &series,
+             const unsigned int                   index)
   {
     const auto              &dof_handler = elasticity.get_dof_handler();
-    const auto              &solution    = elasticity.get_solution();
     const auto              &state       = *fields.state;
     const Gait::RigidMotion &motion      = fields.femur_motion;
     Vector<double>           motion_field(dof_handler.n_dofs());
@@ -136,6 +136,7 @@ namespace TKR::Output
           }
     write_solution(
       elasticity,
+      solution,
       mapping,
       series,
       index,
@@ -146,7 +147,7 @@ namespace TKR::Output
          state.gap,
          std::vector<double>(state.active.begin(), state.active.end())}},
        {fields.slave_surface,
-        {"slip_to_next_mm", "wear_to_next_pm", "unused"},
+        {"slip_to_next_mm", "wear_to_next_pm"},
         {fields.slip_to_next, fields.wear_to_next}}},
       [&](DataOut<3> &data_out) {
         data_out.add_data_vector(
@@ -160,30 +161,23 @@ namespace TKR::Output
   }
 
   void
-  write_worn_tibia(const Wear::WornGeometry &geometry,
-                   const WornTibiaFields    &fields,
-                   VtuSeries                &series,
-                   const unsigned int        index,
-                   const double              cycles)
+  write_worn_tibia(const Geometry::WornGeometry &geometry,
+                   const WornTibiaFields        &fields,
+                   VtuSeries                    &series,
+                   const unsigned int            index,
+                   const double                  cycles)
   {
     const auto    &dof_handler = geometry.get_dof_handler();
-    Vector<double> wear(dof_handler.n_dofs()), load(dof_handler.n_dofs());
     Vector<double> displacement(dof_handler.n_dofs());
     const auto     u = geometry.vertex_displacements();
     for (const auto &cell : dof_handler.active_cell_iterators())
       for (const auto v : cell->vertex_indices())
-        {
-          const unsigned int vertex = cell->vertex_index(v);
-          const auto         dof    = [&](const unsigned int c) {
-            return cell->vertex_dof_index(v, c);
-          };
-          wear(dof(0)) = fields.depth[vertex];
-          wear(dof(1)) = fields.wear_rate[vertex];
-          wear(dof(2)) = fields.peak_load_pressure[vertex];
-          load(dof(0)) = fields.slip[vertex];
-          for (unsigned int c = 0; c < 3; ++c)
-            displacement(dof(c)) = u[vertex][c];
-        }
+        for (unsigned int c = 0; c < 3; ++c)
+          displacement(cell->vertex_dof_index(v, c)) =
+            u[cell->vertex_index(v)][c];
+    VertexFields vertex_fields(dof_handler.get_triangulation());
+    for (const auto &[name, values] : fields)
+      vertex_fields.add(name, values);
 
     // The tibia's locally owned cells only.
     using Iterator      = typename Triangulation<3>::cell_iterator;
@@ -208,17 +202,7 @@ namespace TKR::Output
         return tria.end();
       });
     data_out.attach_dof_handler(dof_handler);
-    data_out.add_data_vector(
-      wear,
-      std::vector<std::string>{"wear_depth_mm",
-                               "wear_rate_um_per_Mcycles",
-                               "peak_load_pressure_MPa"},
-      DataOut<3>::type_dof_data);
-    data_out.add_data_vector(load,
-                             std::vector<std::string>{"cycle_slip_mm",
-                                                      "unused_1",
-                                                      "unused_2"},
-                             DataOut<3>::type_dof_data);
+    vertex_fields.attach(data_out);
     data_out.add_data_vector(
       displacement,
       std::vector<std::string>(3, "wear_displacement"),
@@ -233,7 +217,7 @@ namespace TKR::Output
   void
   write_wear_map(const std::string            &directory,
                  const Mortar::ContactSurface &surface,
-                 const Wear::WornGeometry     &geometry,
+                 const Geometry::WornGeometry &geometry,
                  const MPI_Comm                mpi_communicator)
   {
     if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)

@@ -57,13 +57,13 @@ namespace TKR::Problems
   void
   ContactProblem::setup_system()
   {
-    const auto &parameters = model.parameters;
+    const auto &parameters = model.parameters();
     model.distribute_dofs();
-    const auto &dof_handler = model.elasticity.get_dof_handler();
-    model.pcout << "Degrees of freedom: " << dof_handler.n_dofs()
-                << ", MPI ranks: "
-                << Utilities::MPI::n_mpi_processes(model.communicator)
-                << std::endl;
+    const auto &dof_handler = model.elasticity().get_dof_handler();
+    model.pcout() << "Degrees of freedom: " << dof_handler.n_dofs()
+                  << ", MPI ranks: "
+                  << Utilities::MPI::n_mpi_processes(model.communicator())
+                  << std::endl;
 
     // Dirichlet data on all DoFs (every rank knows every constraint).
     const auto &sc = parameters.static_contact;
@@ -102,7 +102,7 @@ namespace TKR::Problems
     loads = Elasticity::BoundaryLoads();
     if (sc.tibia_inferior == Parameters::TibiaSupport::loaded)
       {
-        const double area = Mesh::compute_statistics(model.triangulation)
+        const double area = Mesh::compute_statistics(model.triangulation())
                               .boundary_area[Mesh::BoundaryIds::tibia_inferior];
         loads.tractions[Mesh::BoundaryIds::tibia_inferior] =
           Tensor<1, 3>({0., 0., sc.axial_force / area});
@@ -112,29 +112,30 @@ namespace TKR::Problems
       }
 
     {
-      TimerOutput::Scope scope(model.timer, "mortar coupling");
+      TimerOutput::Scope scope(model.timer(), "mortar coupling");
       model.setup_contact_surfaces();
-      model.coupling->reinit(model.geometry.vertex_positions(),
-                             parameters.contact_solver.search_distance);
+      model.coupling().reinit(model.geometry().vertex_positions(),
+                              parameters.contact_solver.search_distance);
     }
-    const auto &cs = model.coupling->statistics();
-    model.pcout << "Mortar coupling: " << cs.n_slave_faces << " slave faces, "
-                << cs.n_master_faces << " master faces, "
-                << cs.n_overlapping_pairs << " overlapping face pairs, "
-                << cs.n_covered_nodes << " of " << model.slave->nodes().size()
-                << " slave nodes face the femur" << std::endl
-                << "  covered area (tibia_contact facing femur_contact): "
-                << cs.covered_area << " of " << cs.slave_area << " mm^2"
-                << std::endl;
-    model.summary.set("covered_area_mm2", cs.covered_area);
+    const auto &cs = model.coupling().statistics();
+    model.pcout() << "Mortar coupling: " << cs.n_slave_faces << " slave faces, "
+                  << cs.n_master_faces << " master faces, "
+                  << cs.n_overlapping_pairs << " overlapping face pairs, "
+                  << cs.n_covered_nodes << " of "
+                  << model.slave_surface().nodes().size()
+                  << " slave nodes face the femur" << std::endl
+                  << "  covered area (tibia_contact facing femur_contact): "
+                  << cs.covered_area << " of " << cs.slave_area << " mm^2"
+                  << std::endl;
+    model.summary().set("covered_area_mm2", cs.covered_area);
     check_initial_gaps();
 
     solver = Contact::create_contact_solver(parameters,
-                                            model.elasticity,
-                                            *model.coupling,
-                                            model.communicator,
-                                            model.pcout,
-                                            model.timer);
+                                            model.elasticity(),
+                                            model.coupling(),
+                                            model.communicator(),
+                                            model.pcout(),
+                                            model.timer());
     solver->setup(model.mapping(), dirichlet, loads);
   }
 
@@ -143,11 +144,11 @@ namespace TKR::Problems
   void
   ContactProblem::check_initial_gaps() const
   {
-    const auto &parameters        = model.parameters;
-    const auto [min_gap, closest] = Contact::smallest_gap(*model.coupling);
+    const auto &parameters        = model.parameters();
+    const auto [min_gap, closest] = Contact::smallest_gap(model.coupling());
     const bool loaded             = parameters.static_contact.tibia_inferior ==
                         Parameters::TibiaSupport::loaded;
-    const auto &cs = model.coupling->statistics();
+    const auto &cs = model.coupling().statistics();
     AssertThrow(cs.n_covered_nodes > 0,
                 ExcInputError(
                   "No part of tibia_contact faces femur_contact within the "
@@ -159,7 +160,8 @@ namespace TKR::Problems
                   "bodies are placed against each other and that the "
                   "contact groups are the articular surfaces."));
     const Point<3> &x =
-      model.geometry.vertex_positions()[model.slave->nodes()[closest].vertex];
+      model.geometry()
+        .vertex_positions()[model.slave_surface().nodes()[closest].vertex];
     const std::string where = "(" + format_number(x[0]) + ", " +
                               format_number(x[1]) + ", " + format_number(x[2]) +
                               ")";
@@ -188,14 +190,14 @@ namespace TKR::Problems
   ContactStatistics
   ContactProblem::solve()
   {
-    TimerOutput::Scope scope(model.timer, "contact solve");
-    model.pcout << "Contact solve (" << solver->name() << "):" << std::endl;
+    TimerOutput::Scope scope(model.timer(), "contact solve");
+    model.pcout() << "Contact solve (" << solver->name() << "):" << std::endl;
     const ContactStatistics statistics =
       solver->solve(model.mapping(),
                     loads,
-                    model.parameters.contact_solver.initial_contact_distance,
+                    model.parameters().contact_solver.initial_contact_distance,
                     state);
-    solver->compute_solution();
+    solution = solver->compute_solution();
     check_contact_found(statistics);
     return statistics;
   }
@@ -210,11 +212,14 @@ namespace TKR::Problems
   {
     if (statistics.n_active > 0)
       return;
-    const auto [min_gap, closest] = Contact::smallest_gap(*model.coupling);
-    const Tensor<1, 3> &d = model.parameters.static_contact.femur_displacement;
-    const double closure = -(d * model.coupling->slave_nodes()[closest].normal);
+    const auto [min_gap, closest] = Contact::smallest_gap(model.coupling());
+    const Tensor<1, 3> &d =
+      model.parameters().static_contact.femur_displacement;
+    const double closure =
+      -(d * model.coupling().slave_nodes()[closest].normal);
     const Point<3> &x =
-      model.geometry.vertex_positions()[model.slave->nodes()[closest].vertex];
+      model.geometry()
+        .vertex_positions()[model.slave_surface().nodes()[closest].vertex];
     std::ostringstream message;
     message << "The femur displacement (" << d[0] << ", " << d[1] << ", "
             << d[2] << ") mm closes the smallest initial gap, "
@@ -226,10 +231,10 @@ namespace TKR::Problems
                 ExcInputError(
                   message.str() +
                   ": the contact was not resolved (covered area " +
-                  format_number(model.coupling->statistics().covered_area) +
+                  format_number(model.coupling().statistics().covered_area) +
                   " mm^2). This is not a result."));
-    model.pcout << "Warning: no contact. " << message.str()
-                << ": the bodies stay apart." << std::endl;
+    model.pcout() << "Warning: no contact. " << message.str()
+                  << ": the bodies stay apart." << std::endl;
   }
 
   // Solve the same discrete problem with Ipopt and compare: displacements
@@ -238,77 +243,69 @@ namespace TKR::Problems
   void
   ContactProblem::cross_check_with_ipopt()
   {
-    auto                               &elasticity = model.elasticity;
-    const TrilinosWrappers::MPI::Vector active_set_solution(
-      elasticity.get_solution());
-    const Contact::ContactState active_set_state = state;
-
     Contact::ContactState ipopt_state;
-    Contact::IpoptSolver  ipopt(elasticity,
-                               *model.coupling,
-                               model.parameters.contact_solver,
-                               model.parameters.materials.tibia.youngs_modulus,
-                               model.communicator,
-                               model.pcout,
-                               model.timer);
+    Contact::IpoptSolver  ipopt(
+      model.elasticity(),
+      model.coupling(),
+      model.parameters().contact_solver,
+      model.parameters().materials.tibia.youngs_modulus,
+      model.communicator(),
+      model.pcout(),
+      model.timer());
     ipopt.setup(model.mapping(), dirichlet, loads);
     const ContactStatistics statistics =
       ipopt.solve(model.mapping(), loads, 0., ipopt_state);
+    const TrilinosWrappers::MPI::Vector ipopt_solution =
+      ipopt.compute_solution();
 
     double max_u = 0, du = 0, max_p = 0, dp = 0;
-    for (unsigned int i = 0; i < active_set_solution.size(); ++i)
+    for (unsigned int i = 0; i < solution.size(); ++i)
       {
-        max_u = std::max(max_u, std::abs(active_set_solution[i]));
-        du    = std::max(du,
-                      std::abs(active_set_solution[i] -
-                               elasticity.get_solution()[i]));
+        max_u = std::max(max_u, std::abs(solution[i]));
+        du    = std::max(du, std::abs(solution[i] - ipopt_solution[i]));
       }
     for (unsigned int j = 0; j < state.pressure.size(); ++j)
       {
-        max_p = std::max(max_p, std::abs(active_set_state.pressure[j]));
-        dp    = std::max(dp,
-                      std::abs(active_set_state.pressure[j] -
-                               ipopt_state.pressure[j]));
+        max_p = std::max(max_p, std::abs(state.pressure[j]));
+        dp =
+          std::max(dp, std::abs(state.pressure[j] - ipopt_state.pressure[j]));
       }
     unsigned int n_differ = 0;
     for (unsigned int j = 0; j < state.active.size(); ++j)
-      n_differ += (active_set_state.active[j] != ipopt_state.active[j]);
+      n_differ += (state.active[j] != ipopt_state.active[j]);
 
-    model.pcout << "Cross-check with Ipopt: "
-                << (statistics.converged ? "converged" : "did NOT converge")
-                << std::endl
-                << "  displacement difference / max displacement below 1e-6: "
-                << (du < 1e-6 * max_u ? "yes" : "no") << std::endl
-                << "  pressure difference / max pressure below 1e-6:         "
-                << (dp < 1e-6 * max_p ? "yes" : "no") << std::endl
-                << "  nodes whose active status differs:                     "
-                << n_differ << std::endl;
-    model.summary.set("ipopt_displacement_difference", du / max_u);
-    model.summary.set("ipopt_pressure_difference", dp / max_p);
-
-    // Restore the active-set result.
-    state = active_set_state;
-    elasticity.set_solution(active_set_solution);
+    model.pcout() << "Cross-check with Ipopt: "
+                  << (statistics.converged ? "converged" : "did NOT converge")
+                  << std::endl
+                  << "  displacement difference / max displacement below 1e-6: "
+                  << (du < 1e-6 * max_u ? "yes" : "no") << std::endl
+                  << "  pressure difference / max pressure below 1e-6:         "
+                  << (dp < 1e-6 * max_p ? "yes" : "no") << std::endl
+                  << "  nodes whose active status differs:                     "
+                  << n_differ << std::endl;
+    model.summary().set("ipopt_displacement_difference", du / max_u);
+    model.summary().set("ipopt_pressure_difference", dp / max_p);
   }
 
   void
   ContactProblem::report(const ContactStatistics &statistics)
   {
-    auto        &summary = model.summary;
+    auto        &summary = model.summary();
     const double radius  = std::sqrt(statistics.contact_area / numbers::PI);
     const double force   = statistics.contact_force.norm();
-    model.pcout << "Contact "
-                << (statistics.converged ? "converged" : "did NOT converge")
-                << " in " << statistics.newton_iterations
-                << " active-set iterations" << std::endl
-                << "  active nodes:       " << statistics.n_active << std::endl
-                << "  contact force:      " << force << " N" << std::endl
-                << "  contact area:       " << statistics.contact_area
-                << " mm^2" << std::endl
-                << "  contact radius:     " << radius << " mm (sqrt(area/pi))"
-                << std::endl
-                << "  max pressure:       " << statistics.max_pressure << " MPa"
-                << std::endl;
+    model.pcout() << "Contact "
+                  << (statistics.converged ? "converged" : "did NOT converge")
+                  << " in " << statistics.newton_iterations
+                  << " active-set iterations" << std::endl
+                  << "  active nodes:       " << statistics.n_active
+                  << std::endl
+                  << "  contact force:      " << force << " N" << std::endl
+                  << "  contact area:       " << statistics.contact_area
+                  << " mm^2" << std::endl
+                  << "  contact radius:     " << radius << " mm (sqrt(area/pi))"
+                  << std::endl
+                  << "  max pressure:       " << statistics.max_pressure
+                  << " MPa" << std::endl;
     summary.set("max_pressure_MPa", statistics.max_pressure);
     summary.set("contact_area_mm2", statistics.contact_area);
     summary.set("contact_radius_mm", radius);
@@ -327,8 +324,8 @@ namespace TKR::Problems
   void
   ContactProblem::compare_with_hertz(const ContactStatistics &statistics)
   {
-    const auto &parameters   = model.parameters;
-    auto       &summary      = model.summary;
+    const auto &parameters   = model.parameters();
+    auto       &summary      = model.summary();
     const auto &verification = parameters.verification;
     const bool  is_sphere    = verification.analytic_solution ==
                            Parameters::AnalyticSolution::hertz_sphere;
@@ -343,14 +340,14 @@ namespace TKR::Problems
                                            verification.radius,
                                            E_star);
 
-    const auto &vertices = model.geometry.vertex_positions();
+    const auto &vertices = model.geometry().vertex_positions();
     Point<3>    centre;
     double      weight = 0;
     for (unsigned int j = 0; j < state.active.size(); ++j)
       if (state.active[j])
         {
-          centre +=
-            state.pressure[j] * vertices[model.slave->nodes()[j].vertex];
+          centre += state.pressure[j] *
+                    vertices[model.slave_surface().nodes()[j].vertex];
           weight += state.pressure[j];
         }
     centre /= weight;
@@ -358,8 +355,9 @@ namespace TKR::Problems
     for (unsigned int j = 0; j < state.active.size(); ++j)
       if (state.active[j])
         {
-          Tensor<1, 3> d = vertices[model.slave->nodes()[j].vertex] - centre;
-          d[2]           = 0;
+          Tensor<1, 3> d =
+            vertices[model.slave_surface().nodes()[j].vertex] - centre;
+          d[2] = 0;
           if (!is_sphere)
             d[0] = 0;
           r.push_back(d.norm());
@@ -370,20 +368,20 @@ namespace TKR::Problems
       is_sphere ? std::sqrt(statistics.contact_area / numbers::PI) :
                                     statistics.contact_area / (2. * verification.cylinder_length);
 
-    model.pcout << "Hertz "
-                << (is_sphere ? "sphere" : "cylinder (plane strain)")
-                << " for the computed force (E* = " << E_star
-                << " MPa):" << std::endl
-                << "  " << (is_sphere ? "contact radius" : "half-width    ")
-                << ":  Hertz " << exact.a << " mm, fitted " << fitted.a
-                << " mm (ratio " << fitted.a / exact.a << "), from area "
-                << area_measure << " mm (ratio " << area_measure / exact.a
-                << ")" << std::endl
-                << "  peak pressure :  Hertz " << exact.p0 << " MPa, max nodal "
-                << statistics.max_pressure << " MPa (ratio "
-                << statistics.max_pressure / exact.p0 << "), fitted "
-                << fitted.p0 << " MPa (ratio " << fitted.p0 / exact.p0 << ")"
-                << std::endl;
+    model.pcout() << "Hertz "
+                  << (is_sphere ? "sphere" : "cylinder (plane strain)")
+                  << " for the computed force (E* = " << E_star
+                  << " MPa):" << std::endl
+                  << "  " << (is_sphere ? "contact radius" : "half-width    ")
+                  << ":  Hertz " << exact.a << " mm, fitted " << fitted.a
+                  << " mm (ratio " << fitted.a / exact.a << "), from area "
+                  << area_measure << " mm (ratio " << area_measure / exact.a
+                  << ")" << std::endl
+                  << "  peak pressure :  Hertz " << exact.p0
+                  << " MPa, max nodal " << statistics.max_pressure
+                  << " MPa (ratio " << statistics.max_pressure / exact.p0
+                  << "), fitted " << fitted.p0 << " MPa (ratio "
+                  << fitted.p0 / exact.p0 << ")" << std::endl;
     summary.set("hertz_radius_mm", exact.a);
     summary.set("hertz_max_pressure_MPa", exact.p0);
     summary.set("fitted_radius_mm", fitted.a);
@@ -396,16 +394,17 @@ namespace TKR::Problems
   void
   ContactProblem::output_results()
   {
-    TimerOutput::Scope scope(model.timer, "output");
-    Output::VtuSeries  series(model.parameters.output.directory,
+    TimerOutput::Scope scope(model.timer(), "output");
+    Output::VtuSeries  series(model.parameters().output.directory,
                              "solution",
-                             model.communicator);
-    Output::write_solution(model.elasticity,
+                             model.communicator());
+    Output::write_solution(model.elasticity(),
+                           solution,
                            model.mapping(),
                            series,
                            0,
                            0.,
-                           {{model.slave.get(),
+                           {{&model.slave_surface(),
                              {"contact_pressure", "gap", "active"},
                              {state.pressure,
                               state.gap,
@@ -416,7 +415,7 @@ namespace TKR::Problems
   bool
   ContactProblem::run()
   {
-    const auto &parameters = model.parameters;
+    const auto &parameters = model.parameters();
     model.start("static two-body contact");
     model.make_grid([&](Triangulation<3> &triangulation) {
       if (parameters.static_contact.roller_axis >= 0)

@@ -23,7 +23,7 @@ namespace TKR::Problems
   ElasticityProblem::setup_system()
   {
     model.distribute_dofs();
-    const auto &dof_handler = model.elasticity.get_dof_handler();
+    const auto &dof_handler = model.elasticity().get_dof_handler();
 
     // Every rank keeps the constraints of all DoFs (a shared triangulation
     // knows all cells); LinearElasticity::setup_system() relies on that.
@@ -38,11 +38,12 @@ namespace TKR::Problems
                                                constraints);
     constraints.close();
 
-    model.elasticity.setup_system(constraints);
-    model.pcout << "Degrees of freedom: " << dof_handler.n_dofs() << " (FE_Q("
-                << model.parameters.mesh.fe_degree << ")^3), MPI ranks: "
-                << Utilities::MPI::n_mpi_processes(model.communicator)
-                << std::endl;
+    system = std::make_unique<Elasticity::ElasticSystem>(model.elasticity());
+    system->setup(constraints);
+    model.pcout() << "Degrees of freedom: " << dof_handler.n_dofs() << " (FE_Q("
+                  << model.parameters().mesh.fe_degree << ")^3), MPI ranks: "
+                  << Utilities::MPI::n_mpi_processes(model.communicator())
+                  << std::endl;
   }
 
   void
@@ -50,35 +51,40 @@ namespace TKR::Problems
   {
     Elasticity::BoundaryLoads loads;
     loads.tractions = {{Mesh::BoundaryIds::femur_contact,
-                        model.parameters.elasticity.femur_contact_traction},
+                        model.parameters().elasticity.femur_contact_traction},
                        {Mesh::BoundaryIds::tibia_contact,
-                        model.parameters.elasticity.tibia_contact_traction}};
-    model.elasticity.assemble_system(model.mapping(), constraints, loads);
+                        model.parameters().elasticity.tibia_contact_traction}};
+    system->assemble(model.mapping(), constraints, loads);
   }
 
   Elasticity::SolverStatistics
   ElasticityProblem::solve()
   {
-    model.elasticity.setup_preconditioner(model.mapping());
-    const auto statistics = model.elasticity.solve(constraints);
-    model.pcout << "CG "
-                << (statistics.converged ? "converged" : "did NOT converge");
-    if (!model.parameters.output.testing)
-      model.pcout << " in " << statistics.iterations
-                  << " iterations, relative residual "
-                  << statistics.relative_residual;
-    model.pcout << std::endl;
+    system->setup_preconditioner(model.mapping());
+    const auto statistics = system->solve(constraints);
+    model.pcout() << "CG "
+                  << (statistics.converged ? "converged" : "did NOT converge");
+    if (!model.parameters().output.testing)
+      model.pcout() << " in " << statistics.iterations
+                    << " iterations, relative residual "
+                    << statistics.relative_residual;
+    model.pcout() << std::endl;
     return statistics;
   }
 
   void
   ElasticityProblem::output_results()
   {
-    TimerOutput::Scope scope(model.timer, "output");
-    Output::VtuSeries  series(model.parameters.output.directory,
+    TimerOutput::Scope scope(model.timer(), "output");
+    Output::VtuSeries  series(model.parameters().output.directory,
                              "solution",
-                             model.communicator);
-    Output::write_solution(model.elasticity, model.mapping(), series, 0, 0.);
+                             model.communicator());
+    Output::write_solution(model.elasticity(),
+                           system->solution(),
+                           model.mapping(),
+                           series,
+                           0,
+                           0.);
   }
 
   bool
@@ -91,17 +97,19 @@ namespace TKR::Problems
     const auto statistics = solve();
 
     const double max_femur =
-      model.elasticity.max_displacement(Mesh::MaterialIds::femur);
+      model.elasticity().max_displacement(system->solution(),
+                                          Mesh::MaterialIds::femur);
     const double max_tibia =
-      model.elasticity.max_displacement(Mesh::MaterialIds::tibia);
-    model.pcout << "Max displacement: femur " << 1e3 * max_femur
-                << " um, tibia " << 1e3 * max_tibia << " um" << std::endl;
-    if (model.parameters.output.vtu_interval > 0)
+      model.elasticity().max_displacement(system->solution(),
+                                          Mesh::MaterialIds::tibia);
+    model.pcout() << "Max displacement: femur " << 1e3 * max_femur
+                  << " um, tibia " << 1e3 * max_tibia << " um" << std::endl;
+    if (model.parameters().output.vtu_interval > 0)
       output_results();
 
-    model.summary.set("cg_iterations", statistics.iterations);
-    model.summary.set("max_displacement_femur_mm", max_femur);
-    model.summary.set("max_displacement_tibia_mm", max_tibia);
+    model.summary().set("cg_iterations", statistics.iterations);
+    model.summary().set("max_displacement_femur_mm", max_femur);
+    model.summary().set("max_displacement_tibia_mm", max_tibia);
     return model.finish(statistics.converged);
   }
 } // namespace TKR::Problems

@@ -27,23 +27,23 @@ namespace TKR::Problems
   void
   GaitCycle::setup()
   {
-    const auto &parameters = model.parameters;
-    auto       &pcout      = model.pcout;
+    const auto &parameters = model.parameters();
+    auto       &pcout      = model.pcout();
     waveform = std::make_unique<Gait::Waveform>(parameters.gait.waveform_file);
     const Gait::InferiorSurface surface =
-      Gait::measure_inferior_surface(model.triangulation);
+      Gait::measure_inferior_surface(model.triangulation());
     gait_loads = std::make_unique<Gait::GaitLoads>(parameters.gait, surface);
     tibia_pose =
       std::make_unique<Gait::TibiaPose>(parameters.gait, *gait_loads);
     pcout << "Tibia inferior surface: " << surface.area
           << " mm^2, insert width " << surface.width << " mm" << std::endl;
 
-    const auto &dof_handler = model.elasticity.get_dof_handler();
+    const auto &dof_handler = model.elasticity().get_dof_handler();
     pcout << "Degrees of freedom: " << dof_handler.n_dofs()
-          << ", MPI ranks: " << Utilities::MPI::n_mpi_processes(model.world)
+          << ", MPI ranks: " << Utilities::MPI::n_mpi_processes(model.world())
           << " in " << groups.n_groups << " step group(s)" << std::endl;
     is_femur_vertex =
-      Mesh::material_vertices(model.triangulation, Mesh::MaterialIds::femur);
+      Mesh::material_vertices(model.triangulation(), Mesh::MaterialIds::femur);
 
     // The femur is clamped on its fixation surface (in its co-rotated
     // frame); the tibia has no displacement condition.
@@ -74,7 +74,7 @@ namespace TKR::Problems
         std::make_unique<Output::VtuSeries>(parameters.output.directory,
                                             "step",
                                             groups.communicator,
-                                            model.world);
+                                            model.world());
   }
 
   // The stiffness (with the springs) is the same in every step and pose
@@ -83,41 +83,39 @@ namespace TKR::Problems
   void
   GaitCycle::setup_solver()
   {
-    const auto &parameters = model.parameters;
+    const auto &parameters = model.parameters();
     Timer       setup_timer;
     const bool  first = !solver;
     if (first)
       solver =
         Contact::create_contact_solver(parameters,
-                                       model.elasticity,
-                                       *model.coupling,
+                                       model.elasticity(),
+                                       model.coupling(),
                                        groups.communicator,
                                        ConditionalOStream(std::cout, false),
-                                       model.timer);
-    solver->setup(model.geometry.stiffness_mapping(),
+                                       model.timer());
+    solver->setup(model.geometry().stiffness_mapping(),
                   dirichlet,
                   tibia_pose->springs());
     for (const auto &functional : tibia_pose->motion_functionals())
-      {
-        model.elasticity.assemble_rhs(model.mapping(), dirichlet, functional);
-        solver->add_observation(model.elasticity.get_system_rhs());
-      }
+      solver->add_observation(
+        model.elasticity().load_vector(model.mapping(), dirichlet, functional));
     solver->set_load_basis(model.mapping(), tibia_pose->load_basis());
     if (!first)
       return;
-    model.pcout << "Contact solver: " << solver->description();
+    model.pcout() << "Contact solver: " << solver->description();
     if (!parameters.output.testing)
-      model.pcout << ", set up in " << std::fixed << std::setprecision(1)
-                  << setup_timer.wall_time() << " s" << std::defaultfloat
-                  << std::setprecision(6);
-    model.pcout << std::endl;
+      model.pcout() << ", set up in " << std::fixed << std::setprecision(1)
+                    << setup_timer.wall_time() << " s" << std::defaultfloat
+                    << std::setprecision(6);
+    model.pcout() << std::endl;
   }
 
   std::vector<Point<3>>
   GaitCycle::step_positions(const Gait::RigidMotion &femur_motion,
                             const Tensor<1, 3>      &tibia_translation) const
   {
-    std::vector<Point<3>> positions = model.geometry.vertex_positions();
+    std::vector<Point<3>> positions = model.geometry().vertex_positions();
     for (unsigned int v = 0; v < positions.size(); ++v)
       if (is_femur_vertex[v])
         positions[v] = femur_motion(positions[v]) - tibia_translation;
@@ -127,14 +125,14 @@ namespace TKR::Problems
   double
   GaitCycle::touching_lift(const std::vector<Point<3>> &positions) const
   {
-    const double radius = model.parameters.contact_solver.search_distance;
+    const double radius = model.parameters().contact_solver.search_distance;
     double       lift   = std::numeric_limits<double>::max();
-    for (const auto &femur_node : model.master->nodes())
+    for (const auto &femur_node : model.master_surface().nodes())
       {
         const Point<3> &f       = positions[femur_node.vertex];
         double          nearest = radius * radius;
         double          height  = std::numeric_limits<double>::max();
-        for (const auto &tibia_node : model.slave->nodes())
+        for (const auto &tibia_node : model.slave_surface().nodes())
           {
             const Point<3> &t = positions[tibia_node.vertex];
             const double    d =
@@ -155,8 +153,8 @@ namespace TKR::Problems
   void
   GaitCycle::check_initial_overlap() const
   {
-    const double min_gap = Contact::smallest_gap(*model.coupling).first;
-    AssertThrow(min_gap >= -model.parameters.contact_solver.overlap_tolerance,
+    const double min_gap = Contact::smallest_gap(model.coupling()).first;
+    AssertThrow(min_gap >= -model.parameters().contact_solver.overlap_tolerance,
                 ExcInputError("At 0 % of the cycle the femur penetrates the "
                               "insert by " +
                               format_number(-min_gap) +
@@ -174,7 +172,7 @@ namespace TKR::Problems
                         const bool         print,
                         const bool         keep_for_output)
   {
-    const auto             &parameters = model.parameters;
+    const auto             &parameters = model.parameters();
     Timer                   step_timer;
     const Gait::GaitState   gait   = waveform->at(100. * step / n_steps());
     const Gait::RigidMotion motion = gait_loads->femur_motion(gait);
@@ -207,11 +205,11 @@ namespace TKR::Problems
       window.face_clearance = starts[step].face_clearance;
     const bool use_window = window.width > 0 && !window.face_clearance.empty();
     const auto couple = [&](const Gait::PoseState &pose, const bool narrow) {
-      TimerOutput::Scope scope(model.timer, "mortar coupling");
-      model.coupling->reinit(step_positions(motion, pose.translation),
-                             parameters.contact_solver.search_distance,
-                             motion.rotation,
-                             narrow ? &window : nullptr);
+      TimerOutput::Scope scope(model.timer(), "mortar coupling");
+      model.coupling().reinit(step_positions(motion, pose.translation),
+                              parameters.contact_solver.search_distance,
+                              motion.rotation,
+                              narrow ? &window : nullptr);
     };
     Contact::ContactStatistics statistics;
     unsigned int               newton_iterations = 0, n_solves = 0;
@@ -219,12 +217,12 @@ namespace TKR::Problems
                            Gait::InferiorMotion  &inferior) {
       bool narrow = use_window;
       couple(pose, narrow);
-      if (narrow && model.coupling->statistics().n_covered_nodes == 0)
+      if (narrow && model.coupling().statistics().n_covered_nodes == 0)
         {
           narrow = false;
           couple(pose, narrow);
         }
-      AssertThrow(model.coupling->statistics().n_covered_nodes > 0,
+      AssertThrow(model.coupling().statistics().n_covered_nodes > 0,
                   ExcInputError("Gait step " + std::to_string(step) +
                                 ": no part of tibia_contact faces "
                                                 "femur_contact within the search "
@@ -241,8 +239,8 @@ namespace TKR::Problems
         newton_iterations += statistics.newton_iterations;
       };
       contact_solve();
-      if (narrow && !model.coupling->window_holds(state.displacement,
-                                                  state.master_displacement))
+      if (narrow && !model.coupling().window_holds(state.displacement,
+                                                   state.master_displacement))
         {
           ++window_misses;
           couple(pose, false);
@@ -250,8 +248,8 @@ namespace TKR::Problems
         }
       if (window.width > 0)
         window.face_clearance =
-          model.coupling->face_clearances(state.displacement,
-                                          state.master_displacement);
+          model.coupling().face_clearances(state.displacement,
+                                           state.master_displacement);
       inferior = Gait::TibiaPose::motion_from({{solver->observation(0),
                                                 solver->observation(1),
                                                 solver->observation(2),
@@ -261,7 +259,7 @@ namespace TKR::Problems
     const Gait::PoseIteration iteration = tibia_pose->iterate(pose, solve);
 
     records[step] =
-      Wear::make_step_record(*model.coupling, state, motion, pose.translation);
+      Wear::make_step_record(model.coupling(), state, motion, pose.translation);
     Wear::StepReport &report = reports[step];
     report.percent           = gait.percent;
     report.flexion           = gait.flexion;
@@ -281,15 +279,16 @@ namespace TKR::Problems
     report.wall_time         = step_timer.wall_time();
     starts[step]             = {pose, state.active, window.face_clearance};
     if (groups.n_groups == 1 && (print || !report.converged))
-      model.pcout << Output::step_line(step, report, parameters.output.testing)
-                  << std::endl;
+      model.pcout() << Output::step_line(step,
+                                         report,
+                                         parameters.output.testing)
+                    << std::endl;
     // The step's VTU needs the slip to the next step: it is written after
     // the cycle (output_steps()).
     if (keep_for_output && parameters.output.vtu_interval > 0 &&
         step % parameters.output.vtu_interval == 0)
       {
-        solver->compute_solution();
-        saved_steps[step] = {model.elasticity.get_solution(), state, motion};
+        saved_steps[step] = {solver->compute_solution(), state, motion};
       }
   }
 
@@ -301,22 +300,22 @@ namespace TKR::Problems
     for (const unsigned int step : steps)
       solve_step(step, print_steps, keep_for_output);
     {
-      TimerOutput::Scope scope(model.timer, "collect steps");
+      TimerOutput::Scope scope(model.timer(), "collect steps");
       Wear::gather_steps(groups.is_group_root ? steps :
                                                 std::vector<unsigned int>(),
                          records,
                          reports,
                          starts,
-                         model.world);
+                         model.world());
     }
     bool converged = true;
     for (unsigned int step = 0; step < n_steps(); ++step)
       {
         if (groups.n_groups > 1 && (print_steps || !reports[step].converged))
-          model.pcout << Output::step_line(step,
-                                           reports[step],
-                                           model.parameters.output.testing)
-                      << std::endl;
+          model.pcout() << Output::step_line(step,
+                                             reports[step],
+                                             model.parameters().output.testing)
+                        << std::endl;
         converged = converged && reports[step].converged;
       }
     return converged;
@@ -328,13 +327,12 @@ namespace TKR::Problems
   void
   GaitCycle::output_steps()
   {
-    TimerOutput::Scope scope(model.timer, "output");
-    const double       k = 1e-3 * model.parameters.wear.wear_coefficient;
+    TimerOutput::Scope scope(model.timer(), "output");
+    const double       k = 1e-3 * model.parameters().wear.wear_coefficient;
     for (const auto &[step, saved] : saved_steps)
       {
-        model.elasticity.set_solution(saved.solution);
         Output::StepFields fields;
-        fields.slave_surface = model.slave.get();
+        fields.slave_surface = &model.slave_surface();
         fields.state         = &saved.state;
         fields.femur_motion  = saved.motion;
         fields.wear_to_next =
@@ -344,7 +342,8 @@ namespace TKR::Problems
                                     &fields.slip_to_next);
         for (double &depth : fields.wear_to_next)
           depth *= 1e9; // mm -> pm
-        Output::write_step(model.elasticity,
+        Output::write_step(model.elasticity(),
+                           saved.solution,
                            model.mapping(),
                            fields,
                            *step_series,

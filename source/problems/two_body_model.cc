@@ -12,87 +12,87 @@ namespace TKR::Problems
   TwoBodyModel::TwoBodyModel(const Parameters::AllParameters &parameters,
                              const MPI_Comm                   world,
                              const MPI_Comm                   communicator)
-    : parameters(parameters)
-    , world(world)
-    , communicator(communicator)
-    , pcout(std::cout, Utilities::MPI::this_mpi_process(world) == 0)
+    : prm(parameters)
+    , world_communicator(world)
+    , model_communicator(communicator)
+    , screen(std::cout, Utilities::MPI::this_mpi_process(world) == 0)
     // Rank 0's times; the MPI variant of TimerOutput would print a warning
     // whenever an input error unwinds the stack.
-    , timer(pcout,
-            parameters.output.testing ? TimerOutput::never :
-                                        TimerOutput::summary,
-            TimerOutput::wall_times)
+    , timer_output(screen,
+                   parameters.output.testing ? TimerOutput::never :
+                                               TimerOutput::summary,
+                   TimerOutput::wall_times)
     , wall_timer(world, /*sync_lap_times=*/true)
-    , triangulation(communicator,
-                    Triangulation<3>::none,
-                    /*allow_artificial_cells=*/false,
-                    parallel::shared::Triangulation<3>::partition_metis)
-    , geometry(triangulation, communicator)
-    , elasticity(triangulation,
+    , tria(communicator,
+           Triangulation<3>::none,
+           /*allow_artificial_cells=*/false,
+           parallel::shared::Triangulation<3>::partition_metis)
+    , worn_geometry(tria, communicator)
+    , two_bodies(tria,
                  parameters.materials,
                  parameters.linear_solver,
                  parameters.mesh.fe_degree,
                  communicator,
-                 timer)
+                 timer_output)
   {}
 
   void
   TwoBodyModel::start(const std::string &title)
   {
-    pcout << "tkr-wear: " << title
-          << " (Problem = " << Parameters::to_string(parameters.problem) << ")"
-          << std::endl;
-    Output::create_directory(parameters.output.directory, world);
-    summary.set("problem", Parameters::to_string(parameters.problem));
+    screen << "tkr-wear: " << title
+           << " (Problem = " << Parameters::to_string(prm.problem) << ")"
+           << std::endl;
+    Output::create_directory(prm.output.directory, world_communicator);
+    run_summary.set("problem", Parameters::to_string(prm.problem));
   }
 
   void
   TwoBodyModel::make_grid(const std::function<void(Triangulation<3> &)> &adjust)
   {
-    TimerOutput::Scope scope(timer, "read mesh");
-    Mesh::read_mesh(parameters.mesh, triangulation);
+    TimerOutput::Scope scope(timer_output, "read mesh");
+    Mesh::read_mesh(prm.mesh, tria);
     if (adjust)
-      adjust(triangulation);
-    Output::report_mesh(pcout,
-                        summary,
-                        Mesh::compute_statistics(triangulation),
-                        parameters.mesh.file,
-                        parameters.output.testing);
-    geometry.initialize();
+      adjust(tria);
+    Output::report_mesh(screen,
+                        run_summary,
+                        Mesh::compute_statistics(tria),
+                        prm.mesh.file,
+                        prm.output.testing);
+    worn_geometry.initialize();
   }
 
   void
   TwoBodyModel::distribute_dofs()
   {
-    elasticity.distribute_dofs();
-    summary.set("dofs",
-                static_cast<unsigned long long>(
-                  elasticity.get_dof_handler().n_dofs()));
+    two_bodies.distribute_dofs();
+    run_summary.set("dofs",
+                    static_cast<unsigned long long>(
+                      two_bodies.get_dof_handler().n_dofs()));
   }
 
   void
   TwoBodyModel::setup_contact_surfaces()
   {
-    const auto &dof_handler = elasticity.get_dof_handler();
+    const auto &dof_handler = two_bodies.get_dof_handler();
     slave                   = std::make_unique<Mortar::ContactSurface>(
       dof_handler,
       Mesh::BoundaryIds::tibia_contact);
     master = std::make_unique<Mortar::ContactSurface>(
       dof_handler,
       Mesh::BoundaryIds::femur_contact);
-    coupling = std::make_unique<Mortar::MortarCoupling>(*slave, *master);
+    mortar_coupling = std::make_unique<Mortar::MortarCoupling>(*slave, *master);
   }
 
   bool
   TwoBodyModel::finish(const bool converged)
   {
-    summary.set("converged", converged);
-    Output::finish_run(summary,
-                       parameters.output.directory,
-                       world,
+    run_summary.set("converged", converged);
+    Output::finish_run(run_summary,
+                       prm.output.directory,
+                       world_communicator,
                        wall_timer.wall_time(),
-                       parameters.output.testing,
-                       pcout);
+                       prm.output.testing,
+                       screen);
     return converged;
   }
 } // namespace TKR::Problems

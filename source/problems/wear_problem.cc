@@ -26,13 +26,13 @@ namespace TKR::Problems
     , groups(mpi_communicator, parameters.gait.step_groups)
     , model(parameters, mpi_communicator, groups.communicator)
     , cycle(model, groups)
-    , motion(model.geometry, groups.communicator, model.timer)
+    , motion(model.geometry(), groups.communicator, model.timer())
   {}
 
   void
   WearProblem::start()
   {
-    const auto &parameters = model.parameters;
+    const auto &parameters = model.parameters();
     const auto &directory  = parameters.output.directory;
     if (!resume)
       {
@@ -41,17 +41,17 @@ namespace TKR::Problems
         return;
       }
     state = Output::read_checkpoint(directory,
-                                    model.triangulation.n_vertices(),
+                                    model.triangulation().n_vertices(),
                                     cycle.n_steps());
-    model.geometry.set_vertex_displacements(state.displacement,
-                                            state.stiffness_displacement);
-    model.geometry.set_wear_depth(state.depth);
+    model.geometry().set_vertex_displacements(state.displacement,
+                                              state.stiffness_displacement);
+    model.geometry().set_wear_depth(state.depth);
     cycle.set_step_starts(state.step_starts);
     if (state.stiffness_block > 1)
       cycle.setup_solver();
-    model.pcout << "Resumed from <" << Output::checkpoint_file(directory)
-                << ">: block " << state.block << ", " << state.cycles
-                << " cycles" << std::endl;
+    model.pcout() << "Resumed from <" << Output::checkpoint_file(directory)
+                  << ">: block " << state.block << ", " << state.cycles
+                  << " cycles" << std::endl;
   }
 
   // Archard's law integrated over the cycle gives each tibia_contact
@@ -63,7 +63,7 @@ namespace TKR::Problems
   void
   WearProblem::compute_wear()
   {
-    const auto &parameters = model.parameters;
+    const auto &parameters = model.parameters();
     const auto &wear       = parameters.wear;
     const auto &reports    = cycle.get_reports();
     cycle_depth            = Wear::cycle_wear_depth(cycle.get_records(),
@@ -98,64 +98,64 @@ namespace TKR::Problems
         if (cycle_depth[j] * wear.cycles > wear.wear_area_threshold)
           worn_area += nodes[j].D;
       }
-    model.pcout << "Wear of the first cycle (Archard, k = "
-                << wear.wear_coefficient << " mm^3/(N m)):" << std::endl
-                << "  volume loss:       " << 1e6 * volume
-                << " mm^3 per million cycles" << std::endl
-                << "  mass loss:         " << 1e6 * mass
-                << " mg per million cycles" << std::endl
-                << "  max wear depth:    " << 1e9 * max_depth
-                << " um per million cycles" << std::endl
-                << "  peak pressure:     " << peak_pressure
-                << " MPa (over the cycle)" << std::endl
-                << "  max contact area:  " << max_contact_area << " mm^2"
-                << std::endl
-                << "  wear area:         " << 100. * worn_area / area
-                << " % of tibia_contact (depth x " << wear.cycles
-                << " cycles > " << wear.wear_area_threshold << " mm)"
-                << std::endl
-                << "  linear extrapolation to " << wear.cycles
-                << " cycles without geometry update: " << mass * wear.cycles
-                << " mg" << std::endl
-                << "  steps: " << reports.size()
-                << ", converged: " << n_converged
-                << ", contact solves: " << n_solves
-                << ", Newton iterations per step: "
-                << double(n_newton) / reports.size() << std::endl;
+    model.pcout() << "Wear of the first cycle (Archard, k = "
+                  << wear.wear_coefficient << " mm^3/(N m)):" << std::endl
+                  << "  volume loss:       " << 1e6 * volume
+                  << " mm^3 per million cycles" << std::endl
+                  << "  mass loss:         " << 1e6 * mass
+                  << " mg per million cycles" << std::endl
+                  << "  max wear depth:    " << 1e9 * max_depth
+                  << " um per million cycles" << std::endl
+                  << "  peak pressure:     " << peak_pressure
+                  << " MPa (over the cycle)" << std::endl
+                  << "  max contact area:  " << max_contact_area << " mm^2"
+                  << std::endl
+                  << "  wear area:         " << 100. * worn_area / area
+                  << " % of tibia_contact (depth x " << wear.cycles
+                  << " cycles > " << wear.wear_area_threshold << " mm)"
+                  << std::endl
+                  << "  linear extrapolation to " << wear.cycles
+                  << " cycles without geometry update: " << mass * wear.cycles
+                  << " mg" << std::endl
+                  << "  steps: " << reports.size()
+                  << ", converged: " << n_converged
+                  << ", contact solves: " << n_solves
+                  << ", Newton iterations per step: "
+                  << double(n_newton) / reports.size() << std::endl;
     state.first_cycle_mass = mass;
   }
 
   // The depth grows by n x the cycle's depth at every tibia_contact node;
-  // the node moves inward along the worn surface's nodal normal (the
-  // coupling's, on the current geometry) by the new depth, and MeshMotion
-  // extends that into the tibia.
+  // the node moves inward along the worn surface's nodal normal (on the
+  // current geometry, Geometry::WornGeometry::worn_surface_measures()) by
+  // the new depth, and MeshMotion extends that into the tibia.
   double
   WearProblem::extrapolate()
   {
-    const auto &parameters = model.parameters;
+    const auto &parameters = model.parameters();
     const auto &wear       = parameters.wear;
-    const auto &nodes      = cycle.get_coupling().slave_nodes();
-    const auto &surface    = cycle.get_coupling().slave_surface().nodes();
+    const auto &normals    = model.geometry().worn_surface_measures().normal;
+    const auto &surface    = model.geometry().worn_surface().nodes();
     const std::vector<Tensor<1, 3>> displacement =
-      model.geometry.vertex_displacements();
+      model.geometry().vertex_displacements();
     for (;;)
       {
         const double n =
           std::min(state.cycles_per_block, wear.cycles - state.cycles);
         std::vector<Tensor<1, 3>> target = displacement;
-        std::vector<double> increment(model.triangulation.n_vertices(), 0.);
-        for (unsigned int j = 0; j < nodes.size(); ++j)
+        std::vector<double> increment(model.triangulation().n_vertices(), 0.);
+        for (unsigned int j = 0; j < surface.size(); ++j)
           {
             const unsigned int v = surface[j].vertex;
             increment[v]         = n * cycle_depth[j];
-            target[v] -= increment[v] * nodes[j].normal;
+            target[v] -= increment[v] * normals[j];
           }
         const auto moved      = motion.extend(target);
         const auto distortion = motion.distortion(moved);
         if (distortion.min_ratio >= wear.distortion_limit)
           {
-            model.geometry.set_vertex_displacements(moved);
-            model.geometry.add_wear_depth(increment);
+            model.geometry().set_vertex_displacements(moved);
+            model.geometry().add_wear_depth(increment);
             state.volume +=
               n * Wear::worn_volume(cycle_depth, cycle.get_coupling());
             state.cycles += n;
@@ -165,7 +165,7 @@ namespace TKR::Problems
         double depth = 0;
         for (const unsigned int v : distortion.vertices)
           depth =
-            std::max(depth, model.geometry.wear_depth()[v] + increment[v]);
+            std::max(depth, model.geometry().wear_depth()[v] + increment[v]);
         const Point<3>    &x = distortion.centre;
         std::ostringstream message;
         message << "Block " << state.block + 1 << " (" << n
@@ -184,20 +184,21 @@ namespace TKR::Problems
                                   "true, or refine the mesh where the "
                                   "insert wears."));
         state.cycles_per_block = 0.5 * n;
-        model.pcout << "Warning: " << message.str()
-                    << " Halving the cycles per block to "
-                    << state.cycles_per_block << " and retrying." << std::endl;
+        model.pcout() << "Warning: " << message.str()
+                      << " Halving the cycles per block to "
+                      << state.cycles_per_block << " and retrying."
+                      << std::endl;
       }
   }
 
   void
   WearProblem::finish_block(const double block_wall_time)
   {
-    const auto &parameters = model.parameters;
+    const auto &parameters = model.parameters();
     const auto &output     = parameters.output;
     const auto &nodes      = cycle.get_coupling().slave_nodes();
     const auto &surface    = cycle.get_coupling().slave_surface().nodes();
-    const auto &depth      = model.geometry.wear_depth();
+    const auto &depth      = model.geometry().wear_depth();
     double      max_depth = 0, area = 0, worn_area = 0;
     for (unsigned int j = 0; j < nodes.size(); ++j)
       {
@@ -207,7 +208,7 @@ namespace TKR::Problems
         if (d > parameters.wear.wear_area_threshold)
           worn_area += nodes[j].D;
       }
-    const double wall_time = state.wall_time + model.wall_timer.wall_time();
+    const double wall_time = state.wall_time + model.wall_time();
     state.history.push_back({state.block,
                              state.cycles,
                              state.volume,
@@ -220,7 +221,7 @@ namespace TKR::Problems
     Output::write_wear_history(output.directory,
                                state.history,
                                output.testing,
-                               model.world);
+                               model.world());
 
     // Progress: on the screen and in progress.log.
     const unsigned int n_blocks =
@@ -239,8 +240,8 @@ namespace TKR::Problems
              << " s/block, ETA " << std::setprecision(0) << remaining / 60.
              << " min";
       }
-    model.pcout << line.str() << std::endl;
-    if (Utilities::MPI::this_mpi_process(model.world) == 0)
+    model.pcout() << line.str() << std::endl;
+    if (Utilities::MPI::this_mpi_process(model.world()) == 0)
       {
         std::ofstream log(output.directory + "/progress.log", std::ios::app);
         log << line.str() << std::endl;
@@ -254,14 +255,12 @@ namespace TKR::Problems
             std::make_unique<Output::VtuSeries>(output.directory,
                                                 "worn",
                                                 groups.communicator);
-        Output::WornTibiaFields fields;
-        const unsigned int      n_vertices = model.triangulation.n_vertices();
-        fields.depth                       = depth;
-        fields.wear_rate.assign(n_vertices, 0.);
-        fields.peak_load_pressure.assign(n_vertices, 0.);
-        fields.slip.assign(n_vertices, 0.);
-        const auto        &reports = cycle.get_reports();
-        const unsigned int peak_step =
+        const unsigned int  n_vertices = model.triangulation().n_vertices();
+        std::vector<double> wear_rate(n_vertices, 0.);
+        std::vector<double> peak_load_pressure(n_vertices, 0.);
+        std::vector<double> slip(n_vertices, 0.);
+        const auto         &reports = cycle.get_reports();
+        const unsigned int  peak_step =
           std::max_element(reports.begin(),
                            reports.end(),
                            [](const auto &a, const auto &b) {
@@ -270,13 +269,17 @@ namespace TKR::Problems
           reports.begin();
         for (unsigned int j = 0; j < nodes.size(); ++j)
           {
-            const unsigned int v = surface[j].vertex;
-            fields.wear_rate[v]  = 1e9 * cycle_depth[j];
-            fields.peak_load_pressure[v] =
-              cycle.get_records()[peak_step].pressure[j];
-            fields.slip[v] = cycle_slip[j];
+            const unsigned int v  = surface[j].vertex;
+            wear_rate[v]          = 1e9 * cycle_depth[j];
+            peak_load_pressure[v] = cycle.get_records()[peak_step].pressure[j];
+            slip[v]               = cycle_slip[j];
           }
-        Output::write_worn_tibia(model.geometry,
+        const Output::WornTibiaFields fields = {
+          {"wear_depth_mm", depth},
+          {"wear_rate_um_per_Mcycles", wear_rate},
+          {"peak_load_pressure_MPa", peak_load_pressure},
+          {"cycle_slip_mm", slip}};
+        Output::write_worn_tibia(model.geometry(),
                                  fields,
                                  *worn_series,
                                  state.block,
@@ -287,33 +290,35 @@ namespace TKR::Problems
     if (output.checkpoint_interval > 0 &&
         (state.block % output.checkpoint_interval == 0 || done))
       {
-        TimerOutput::Scope scope(model.timer, "checkpoint");
-        state.displacement = model.geometry.vertex_displacements();
+        TimerOutput::Scope scope(model.timer(), "checkpoint");
+        state.displacement = model.geometry().vertex_displacements();
         state.stiffness_displacement =
-          model.geometry.vertex_displacements(true);
+          model.geometry().vertex_displacements(true);
         state.depth       = depth;
         state.step_starts = cycle.get_step_starts();
-        Output::write_checkpoint(output.directory, state, model.world);
-        model.pcout << "  checkpoint written after block " << state.block
-                    << std::endl;
+        Output::write_checkpoint(output.directory, state, model.world());
+        model.pcout() << "  checkpoint written after block " << state.block
+                      << std::endl;
       }
   }
 
   void
   WearProblem::output_results()
   {
-    const auto &parameters = model.parameters;
+    const auto &parameters = model.parameters();
     const auto &output     = parameters.output;
-    Output::write_steps_csv(output.directory, cycle.get_reports(), model.world);
+    Output::write_steps_csv(output.directory,
+                            cycle.get_reports(),
+                            model.world());
     if (output.vtu_interval > 0)
       cycle.output_steps();
     Output::write_wear_map(output.directory,
                            cycle.get_coupling().slave_surface(),
-                           model.geometry,
-                           model.world);
+                           model.geometry(),
+                           model.world());
 
     const auto &last    = state.history.back();
-    auto       &summary = model.summary;
+    auto       &summary = model.summary();
     summary.set("cycles", state.cycles);
     summary.set("blocks", state.block);
     summary.set("mass_loss_mg", last.mass);
@@ -338,20 +343,20 @@ namespace TKR::Problems
     if (output.plots)
       {
         // The summary is written by finish(); the plots read it.
-        summary.write(output.directory, model.world);
+        summary.write(output.directory, model.world());
         const std::string error =
           Output::make_plots(output.directory,
                              output.measured_mass_loss_file,
-                             model.world);
+                             model.world());
         if (!error.empty())
-          model.pcout << "Warning: no plots: " << error << std::endl;
+          model.pcout() << "Warning: no plots: " << error << std::endl;
       }
   }
 
   bool
   WearProblem::run()
   {
-    const auto &parameters = model.parameters;
+    const auto &parameters = model.parameters();
     const auto &wear       = parameters.wear;
     model.start("ISO 14243-1 gait cycle and Archard wear");
     AssertThrow(parameters.mesh.fe_degree == 1,
@@ -362,15 +367,15 @@ namespace TKR::Problems
     cycle.setup();
     motion.setup();
     start();
-    model.pcout << "Extrapolation: " << wear.cycles << " cycles in blocks of "
-                << state.cycles_per_block << ", stiffness updated "
-                << (wear.stiffness_update_interval == 0 ?
-                      std::string("never") :
-                      "every " +
-                        std::to_string(wear.stiffness_update_interval) +
-                        " block(s)")
-                << ", warm starts " << (wear.warm_start ? "on" : "off")
-                << std::endl;
+    model.pcout() << "Extrapolation: " << wear.cycles << " cycles in blocks of "
+                  << state.cycles_per_block << ", stiffness updated "
+                  << (wear.stiffness_update_interval == 0 ?
+                        std::string("never") :
+                        "every " +
+                          std::to_string(wear.stiffness_update_interval) +
+                          " block(s)")
+                  << ", warm starts " << (wear.warm_start ? "on" : "off")
+                  << std::endl;
     while (state.cycles < wear.cycles)
       {
         Timer              block_timer;
@@ -379,15 +384,15 @@ namespace TKR::Problems
         if (block > 1 && R > 0 && (block - 1) % R == 0 &&
             state.stiffness_block != block)
           {
-            model.geometry.update_stiffness_geometry();
+            model.geometry().update_stiffness_geometry();
             cycle.setup_solver();
             state.stiffness_block = block;
           }
         const bool first = (block == 1);
         const bool last  = state.cycles + state.cycles_per_block >= wear.cycles;
         if (first)
-          model.pcout << "Gait cycle, " << cycle.n_steps()
-                      << " steps:" << std::endl;
+          model.pcout() << "Gait cycle, " << cycle.n_steps()
+                        << " steps:" << std::endl;
         cycle.solve(first, last);
         compute_wear();
         extrapolate();
@@ -395,13 +400,13 @@ namespace TKR::Problems
       }
     if (parameters.contact_solver.coupling_window > 0 &&
         !parameters.output.testing)
-      model.pcout << "Coupling window: "
-                  << Utilities::MPI::sum(groups.is_group_root ?
-                                           cycle.n_window_misses() :
-                                           0u,
-                                         model.world)
-                  << " contact solves repeated on the whole search distance"
-                  << std::endl;
+      model.pcout() << "Coupling window: "
+                    << Utilities::MPI::sum(groups.is_group_root ?
+                                             cycle.n_window_misses() :
+                                             0u,
+                                           model.world())
+                    << " contact solves repeated on the whole search distance"
+                    << std::endl;
     output_results();
     return model.finish(state.converged);
   }

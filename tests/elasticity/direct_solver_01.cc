@@ -18,6 +18,7 @@
 
 #include <tkr/base/exceptions.h>
 #include <tkr/elasticity/direct_solver.h>
+#include <tkr/elasticity/elastic_system.h>
 #include <tkr/elasticity/linear_elasticity.h>
 #include <tkr/mesh/mesh.h>
 
@@ -98,9 +99,10 @@ main(int argc, char **argv)
           Functions::ConstantFunction<3>(std::vector<double>{0.01, 0., -0.02}),
           constraints);
       constraints.close();
-      elasticity.setup_system(constraints);
-      elasticity.assemble_system(mapping, constraints, loads);
-      const auto &K = elasticity.get_system_matrix();
+      TKR::Elasticity::ElasticSystem system(elasticity);
+      system.setup(constraints);
+      system.assemble(mapping, constraints, loads);
+      const auto &K = system.matrix();
 
       Elasticity::DirectSolver solver;
       try
@@ -130,14 +132,13 @@ main(int argc, char **argv)
 
       // A moved solver keeps its factorisation.
       Elasticity::DirectSolver      moved = std::move(solver);
-      TrilinosWrappers::MPI::Vector u(elasticity.get_system_rhs());
-      moved.solve(u.trilinos_vector(),
-                  elasticity.get_system_rhs().trilinos_vector());
+      TrilinosWrappers::MPI::Vector u(system.rhs());
+      moved.solve(u.trilinos_vector(), system.rhs().trilinos_vector());
       deallog << "load vector, residual below 1e-12: "
               << yes_no(max_relative_residual(K,
                                               u.trilinos_vector(),
-                                              elasticity.get_system_rhs()
-                                                .trilinos_vector()) < 1e-12)
+                                              system.rhs().trilinos_vector()) <
+                        1e-12)
               << std::endl;
     }
 }

@@ -5,6 +5,7 @@
 #define tkr_contact_active_set_solver_h
 
 #include <tkr/contact/contact_solver.h>
+#include <tkr/elasticity/elastic_system.h>
 #include <tkr/mortar/mortar_operator.h>
 
 #include <vector>
@@ -30,14 +31,14 @@ namespace TKR::Contact
   class ActiveSetSolver : public ContactSolver
   {
   public:
-    ActiveSetSolver(Elasticity::LinearElasticity     &elasticity,
-                    const Mortar::MortarCoupling     &coupling,
-                    const Parameters::ContactSolver  &parameters,
-                    const double                      slave_youngs_modulus,
-                    const MPI_Comm                    mpi_communicator,
-                    const dealii::ConditionalOStream &pcout,
-                    dealii::TimerOutput              &timer,
-                    const bool                        testing);
+    ActiveSetSolver(const Elasticity::LinearElasticity &elasticity,
+                    const Mortar::MortarCoupling       &coupling,
+                    const Parameters::ContactSolver    &parameters,
+                    const double                        slave_youngs_modulus,
+                    const MPI_Comm                      mpi_communicator,
+                    const dealii::ConditionalOStream   &pcout,
+                    dealii::TimerOutput                &timer,
+                    const bool                          testing);
 
     /** The solve() for a combination of the load basis, too. */
     using ContactSolver::solve;
@@ -52,6 +53,13 @@ namespace TKR::Contact
           const Elasticity::BoundaryLoads &loads,
           const double                     initial_distance,
           ContactState                    &state) override;
+
+    /** The solution of the last Newton step. */
+    dealii::TrilinosWrappers::MPI::Vector
+    compute_solution() override
+    {
+      return system.solution();
+    }
 
     std::string
     name() const override
@@ -104,7 +112,7 @@ namespace TKR::Contact
                       const ActiveSetUpdate &active_set_update,
                       const bool             warm_start,
                       ContactState          &state,
-                      unsigned int          &n_changed) const;
+                      unsigned int          &n_changed);
 
     /** Values of a distributed vector at the surface DoFs, on all ranks. */
     std::vector<double>
@@ -112,6 +120,8 @@ namespace TKR::Contact
            const dealii::TrilinosWrappers::MPI::Vector &vector) const;
 
     const bool testing;
+    /** The linear system of the Newton steps. */
+    Elasticity::ElasticSystem system;
   };
 } // namespace TKR::Contact
 

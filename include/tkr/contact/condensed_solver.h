@@ -6,6 +6,7 @@
 
 #include <tkr/contact/contact_solver.h>
 #include <tkr/elasticity/direct_solver.h>
+#include <tkr/elasticity/elastic_system.h>
 #include <tkr/mortar/mortar_operator.h>
 
 #include <array>
@@ -83,10 +84,10 @@ namespace TKR::Contact
       const dealii::TrilinosWrappers::MPI::Vector &weights) override;
 
     /**
-     * u = K^{-1} (f - B^T lambda) for the multipliers of the last solve,
-     * into the LinearElasticity object (one more back substitution).
+     * u = K^{-1} (f - B^T lambda) for the multipliers of the last solve
+     * (one more back substitution).
      */
-    void
+    dealii::TrilinosWrappers::MPI::Vector
     compute_solution() override;
 
     std::string
@@ -160,6 +161,8 @@ namespace TKR::Contact
              const dealii::types::global_dof_index dof,
              const double                          value) const;
 
+    /** The stiffness K (with the springs), as factorised. */
+    Elasticity::ElasticSystem system{elasticity};
     /** The right-hand side of the inhomogeneous Dirichlet values. */
     dealii::TrilinosWrappers::MPI::Vector dirichlet_rhs;
     Elasticity::DirectSolver              direct_solver;

@@ -40,13 +40,13 @@ namespace TKR::Contact
   class ContactSolver
   {
   public:
-    ContactSolver(Elasticity::LinearElasticity     &elasticity,
-                  const Mortar::MortarCoupling     &coupling,
-                  const Parameters::ContactSolver  &parameters,
-                  const double                      slave_youngs_modulus,
-                  const MPI_Comm                    mpi_communicator,
-                  const dealii::ConditionalOStream &pcout,
-                  dealii::TimerOutput              &timer);
+    ContactSolver(const Elasticity::LinearElasticity &elasticity,
+                  const Mortar::MortarCoupling       &coupling,
+                  const Parameters::ContactSolver    &parameters,
+                  const double                        slave_youngs_modulus,
+                  const MPI_Comm                      mpi_communicator,
+                  const dealii::ConditionalOStream   &pcout,
+                  dealii::TimerOutput                &timer);
 
     virtual ~ContactSolver() = default;
 
@@ -94,21 +94,21 @@ namespace TKR::Contact
           ContactState              &state);
 
     /**
-     * Put the full displacement of the last solve into the
-     * LinearElasticity object (the condensed solver computes only the
-     * contact surfaces and the observations in solve()).
+     * The full displacement of the last solve (ghosted: every locally
+     * relevant entry). The condensed solver computes only the contact
+     * surfaces and the observations in solve(); this costs it one more
+     * back substitution.
      */
-    virtual void
-    compute_solution()
-    {}
+    virtual dealii::TrilinosWrappers::MPI::Vector
+    compute_solution() = 0;
 
     /**
      * Add a linear functional of the displacement, w . u, that every solve
      * evaluates: @p weights is a right-hand side assembled with the
      * Dirichlet constraints of setup() (e.g. by
      * LinearElasticity::assemble_rhs() for a traction whose work is the
-     * functional), which must be homogeneous. Returns the functional's
-     * index for observation().
+     * functional; LinearElasticity::load_vector()), which must be
+     * homogeneous. Returns the functional's index for observation().
      */
     virtual unsigned int
     add_observation(const dealii::TrilinosWrappers::MPI::Vector &weights);
@@ -129,18 +129,18 @@ namespace TKR::Contact
     description() const = 0;
 
   protected:
-    /** The observations of the full displacement in LinearElasticity. */
+    /** The observations of the full displacement @p u (ghosted). */
     void
-    observe_solution();
+    observe_solution(const dealii::TrilinosWrappers::MPI::Vector &u);
 
-    Elasticity::LinearElasticity     &elasticity;
-    const Mortar::MortarCoupling     &coupling;
-    const Parameters::ContactSolver   parameters;
-    const double                      slave_youngs_modulus;
-    const MPI_Comm                    mpi_communicator;
-    const dealii::ConditionalOStream  pcout;
-    dealii::TimerOutput              &timer;
-    dealii::AffineConstraints<double> dirichlet;
+    const Elasticity::LinearElasticity &elasticity;
+    const Mortar::MortarCoupling       &coupling;
+    const Parameters::ContactSolver     parameters;
+    const double                        slave_youngs_modulus;
+    const MPI_Comm                      mpi_communicator;
+    const dealii::ConditionalOStream    pcout;
+    dealii::TimerOutput                &timer;
+    dealii::AffineConstraints<double>   dirichlet;
     /** The springs of setup() and the load basis of set_load_basis(). */
     Elasticity::BoundaryLoads              springs;
     std::vector<Elasticity::BoundaryLoads> load_basis;
@@ -166,12 +166,12 @@ namespace TKR::Contact
    * that cannot do the problem (Ipopt for the gait).
    */
   std::unique_ptr<ContactSolver>
-  create_contact_solver(const Parameters::AllParameters  &parameters,
-                        Elasticity::LinearElasticity     &elasticity,
-                        const Mortar::MortarCoupling     &coupling,
-                        const MPI_Comm                    mpi_communicator,
-                        const dealii::ConditionalOStream &pcout,
-                        dealii::TimerOutput              &timer);
+  create_contact_solver(const Parameters::AllParameters    &parameters,
+                        const Elasticity::LinearElasticity &elasticity,
+                        const Mortar::MortarCoupling       &coupling,
+                        const MPI_Comm                      mpi_communicator,
+                        const dealii::ConditionalOStream   &pcout,
+                        dealii::TimerOutput                &timer);
 } // namespace TKR::Contact
 
 #endif

@@ -31,8 +31,8 @@ namespace TKR::Contact
     using ContactSolver::solve;
 
     /**
-     * Solve to 1e-2 x the Contact solver tolerance; the solution goes into
-     * the LinearElasticity object, pressures, gaps and the active set
+     * Solve to 1e-2 x the Contact solver tolerance; the solution is kept
+     * for compute_solution(), pressures, gaps and the active set
      * (nodes where lambda_j - c_j g_j > 0, as in the active-set method)
      * into @p state. Only on one MPI rank. @p initial_distance is not used
      * (the interior-point method needs no initial active set).
@@ -42,6 +42,13 @@ namespace TKR::Contact
           const Elasticity::BoundaryLoads &loads,
           const double                     initial_distance,
           ContactState                    &state) override;
+
+    /** The displacement of the last solve. */
+    dealii::TrilinosWrappers::MPI::Vector
+    compute_solution() override
+    {
+      return solution;
+    }
 
     std::string
     name() const override
@@ -54,6 +61,10 @@ namespace TKR::Contact
     {
       return name();
     }
+
+  private:
+    /** The displacement of the last solve (ghosted). */
+    dealii::TrilinosWrappers::MPI::Vector solution;
   };
 } // namespace TKR::Contact
 

@@ -16,7 +16,6 @@
 
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/full_matrix.h>
-#include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/trilinos_vector.h>
 
@@ -25,8 +24,6 @@
 #include <functional>
 #include <map>
 #include <memory>
-
-class Epetra_MultiVector;
 
 namespace TKR::Elasticity
 {
@@ -97,12 +94,15 @@ namespace TKR::Elasticity
   };
 
   /**
-   * Two linear-elastic bodies on one DoFHandler with FESystem(FE_Q(p), 3),
-   * the material of each cell chosen by its material id. Works on any
+   * The discretisation of two linear-elastic bodies on one DoFHandler with
+   * FESystem(FE_Q(p), 3), the material of each cell chosen by its material
+   * id: the DoFs, the cell matrices and load vectors, load vectors of
+   * boundary tractions, residuals of a given displacement. Works on any
    * triangulation whose locally owned cells are known (serial or
-   * parallel::shared); the matrix and vectors are Trilinos objects over the
-   * locally owned DoFs. The verbs follow step-8/step-40: distribute_dofs(),
-   * setup_system(), assemble_system(), solve().
+   * parallel::shared); vectors are Trilinos objects over the locally owned
+   * DoFs. It holds no system and no solution: a linear system is an
+   * ElasticSystem of its own user, and every function that reads a
+   * displacement takes it as an argument.
    */
   class LinearElasticity
   {
@@ -119,119 +119,64 @@ namespace TKR::Elasticity
     distribute_dofs();
 
     /**
-     * Build the sparsity pattern (with the couplings @p constraints
-     * introduce) and size the matrix and vectors. Call again when the
-     * constraints couple new DoFs.
+     * The load vector of the boundary tractions of @p loads (there are no
+     * body forces) on the geometry of @p mapping, condensed with
+     * @p constraints, which must be homogeneous: for a matrix that stays
+     * the same while the loads change, and for the weights of a linear
+     * functional whose work is that of the tractions.
      */
-    void
-    setup_system(const dealii::AffineConstraints<double> &constraints);
+    dealii::TrilinosWrappers::MPI::Vector
+    load_vector(const dealii::Mapping<3>                &mapping,
+                const dealii::AffineConstraints<double> &constraints,
+                const BoundaryLoads                     &loads) const;
 
     /**
-     * Assemble the stiffness matrix and the load vector on the geometry
-     * given by @p mapping, with the boundary @p loads, eliminating
-     * @p constraints (inhomogeneities included) as in step-8.
-     */
-    void
-    assemble_system(const dealii::Mapping<3>                &mapping,
-                    const dealii::AffineConstraints<double> &constraints,
-                    const BoundaryLoads                     &loads);
-
-    /**
-     * The first half of a split assembly, for a sequence of systems whose
-     * constraints differ only on the DoFs @p changing_dofs (the contact
-     * constraints of an active set; the loads, the mapping and all other
-     * constraints stay). Every cell without such a DoF is assembled with
-     * @p constraints, once; the values of the rows that the other cells
-     * can add to (their DoFs and every DoF the lines of @p
-     * all_constraints make these depend on) are kept.
-     * assemble_changing_cells() then completes the system for any
-     * constraints of the sequence. @p all_constraints holds every line
-     * the sequence may use (the sparsity pattern was built for it); call
-     * this again after setup_system().
-     */
-    void
-    assemble_fixed_cells(
-      const dealii::Mapping<3>                &mapping,
-      const dealii::AffineConstraints<double> &constraints,
-      const BoundaryLoads                     &loads,
-      const dealii::IndexSet                  &changing_dofs,
-      const dealii::AffineConstraints<double> &all_constraints);
-
-    /**
-     * The second half of the split assembly: the system of
-     * assemble_system() for @p constraints, from the rows kept by
-     * assemble_fixed_cells() and the cells with changing DoFs, which are
-     * assembled again. The same matrix and vector as assemble_system()
-     * up to round-off (the sums run in another order).
-     */
-    void
-    assemble_changing_cells(
-      const dealii::Mapping<3>                &mapping,
-      const dealii::AffineConstraints<double> &constraints,
-      const BoundaryLoads                     &loads);
-
-    /**
-     * Only the right-hand side of assemble_system() (the boundary
-     * tractions; there are no body forces), condensed with
-     * @p constraints, which must be homogeneous. For a matrix that stays
-     * the same while the loads change.
-     */
-    void
-    assemble_rhs(const dealii::Mapping<3>                &mapping,
-                 const dealii::AffineConstraints<double> &constraints,
-                 const BoundaryLoads                     &loads);
-
-    /**
-     * The residual r = f - K u of the unconstrained system for the current
-     * solution, in @p residual (locally owned entries). At a slave node in
-     * contact it is the contact force that the constraints exert.
-     */
-    void
-    compute_residual(const dealii::Mapping<3>              &mapping,
-                     const BoundaryLoads                   &loads,
-                     dealii::TrilinosWrappers::MPI::Vector &residual) const;
-
-    /**
-     * As above, but only the cells that hold one of the DoFs @p rows are
+     * The residual r = f - K u of the unconstrained system for the
+     * displacement @p solution (ghosted), in @p residual (locally owned
+     * entries). Only the cells that hold one of the DoFs @p rows are
      * visited: the residual is exact in these rows (they get all their
-     * contributions) and incomplete elsewhere. The contact solver needs
-     * it only at the slave nodes, whose cells are a thin layer.
+     * contributions) and incomplete elsewhere. At a slave node in contact
+     * it is the contact force that the constraints exert; the contact
+     * solver needs it only there, in a thin layer of cells.
      */
     void
-    compute_residual(const dealii::Mapping<3>              &mapping,
-                     const BoundaryLoads                   &loads,
-                     const dealii::IndexSet                &rows,
+    compute_residual(const dealii::Mapping<3>                    &mapping,
+                     const BoundaryLoads                         &loads,
+                     const dealii::TrilinosWrappers::MPI::Vector &solution,
+                     const dealii::IndexSet                      &rows,
                      dealii::TrilinosWrappers::MPI::Vector &residual) const;
 
     /**
-     * Build the ML AMG preconditioner of the current matrix with the
-     * rigid-body modes (evaluated at the support points mapped by
-     * @p mapping) as near-null space.
+     * Largest nodal displacement magnitude (mm) of @p solution (ghosted)
+     * in the body @p material.
+     */
+    double
+    max_displacement(const dealii::TrilinosWrappers::MPI::Vector &solution,
+                     const dealii::types::material_id material) const;
+
+    /** A ghosted vector of all locally relevant DoFs, zero. */
+    dealii::TrilinosWrappers::MPI::Vector
+    make_ghosted_vector() const;
+
+    /**
+     * For every locally owned cell that @p select accepts (given the
+     * cell and its DoF indices; all cells if it is empty): its matrix and
+     * load vector (no constraints applied), handed to @p use with the
+     * cell's DoF indices.
      */
     void
-    setup_preconditioner(const dealii::Mapping<3> &mapping);
-
-    /**
-     * Solve with CG and the AMG preconditioner (set up by
-     * setup_preconditioner()), distribute the constraints and update the
-     * ghosted solution. A non-converged solve is reported, not thrown.
-     */
-    SolverStatistics
-    solve(const dealii::AffineConstraints<double> &constraints);
-
-    /**
-     * As solve(), but CG stops when the residual is @p tolerance times the
-     * norm of the right-hand side (instead of the `Linear solver`
-     * tolerance) and, if @p start_from_solution, it starts from the
-     * current solution instead of zero (its constrained entries set to
-     * zero, the value the condensed system has there): for a sequence of
-     * systems with similar solutions, such as the Newton steps of the
-     * contact solver.
-     */
-    SolverStatistics
-    solve(const dealii::AffineConstraints<double> &constraints,
-          const double                             tolerance,
-          const bool                               start_from_solution);
+    for_each_cell_system(
+      const dealii::Mapping<3> &mapping,
+      const BoundaryLoads      &loads,
+      const std::function<
+        void(const dealii::DoFHandler<3>::active_cell_iterator &,
+             const dealii::FullMatrix<double> &,
+             dealii::Vector<double> &,
+             const std::vector<dealii::types::global_dof_index> &)> &use,
+      const std::function<bool(
+        const dealii::DoFHandler<3>::active_cell_iterator &,
+        const std::vector<dealii::types::global_dof_index> &)> &select = {})
+      const;
 
     /** The `Linear solver` parameters. */
     const Parameters::LinearSolver &
@@ -239,20 +184,6 @@ namespace TKR::Elasticity
     {
       return solver_parameters;
     }
-
-    /**
-     * Replace the solution by @p owned_solution (locally owned entries,
-     * constraints already satisfied), e.g. from another solver.
-     */
-    void
-    set_solution(const dealii::TrilinosWrappers::MPI::Vector &owned_solution)
-    {
-      solution = owned_solution;
-    }
-
-    /** Largest nodal displacement magnitude (mm) in the body @p material. */
-    double
-    max_displacement(const dealii::types::material_id material) const;
 
     const dealii::DoFHandler<3> &
     get_dof_handler() const
@@ -274,70 +205,24 @@ namespace TKR::Elasticity
     {
       return relevant_dofs;
     }
-    /** The solution with ghost entries (read it, do not write it). */
-    const dealii::TrilinosWrappers::MPI::Vector &
-    get_solution() const
-    {
-      return solution;
-    }
-    const dealii::TrilinosWrappers::SparseMatrix &
-    get_system_matrix() const
-    {
-      return system_matrix;
-    }
-    const dealii::TrilinosWrappers::MPI::Vector &
-    get_system_rhs() const
-    {
-      return system_rhs;
-    }
     const Parameters::Materials &
     get_materials() const
     {
       return materials;
     }
+    MPI_Comm
+    get_communicator() const
+    {
+      return mpi_communicator;
+    }
+    /** The timer of the run (sections of assembly and solvers). */
+    dealii::TimerOutput &
+    get_timer() const
+    {
+      return timer;
+    }
 
   private:
-    /** Which cells add_cells() adds. */
-    enum class CellSelection
-    {
-      all,
-      /** Those whose DoFs do not change with the active set. */
-      fixed,
-      /** Those whose DoFs do (assemble_fixed_cells() marks them). */
-      changing
-    };
-
-    /**
-     * Add the cells of @p selection to the system, with @p constraints
-     * (assemble_system(), assemble_fixed_cells() and
-     * assemble_changing_cells()), and compress it.
-     */
-    void
-    add_cells(const dealii::Mapping<3>                &mapping,
-              const dealii::AffineConstraints<double> &constraints,
-              const BoundaryLoads                     &loads,
-              const CellSelection                      selection);
-
-    /**
-     * For every locally owned cell that @p select accepts (given the
-     * cell and its DoF indices; all cells if it is empty): its matrix and load
-     * vector (no constraints applied), handed to @p use with the cell's
-     * DoF indices.
-     */
-    void
-    for_each_cell_system(
-      const dealii::Mapping<3> &mapping,
-      const BoundaryLoads      &loads,
-      const std::function<
-        void(const dealii::DoFHandler<3>::active_cell_iterator &,
-             const dealii::FullMatrix<double> &,
-             dealii::Vector<double> &,
-             const std::vector<dealii::types::global_dof_index> &)> &use,
-      const std::function<bool(
-        const dealii::DoFHandler<3>::active_cell_iterator &,
-        const std::vector<dealii::types::global_dof_index> &)> &select = {})
-      const;
-
     /** Cell matrix and load vector (no constraints applied). */
     void
     local_assemble(const dealii::DoFHandler<3>::active_cell_iterator &cell,
@@ -363,32 +248,6 @@ namespace TKR::Elasticity
     dealii::FESystem<3>   fe;
     dealii::DoFHandler<3> dof_handler;
     dealii::IndexSet      owned_dofs, relevant_dofs;
-
-    dealii::TrilinosWrappers::SparseMatrix    system_matrix;
-    dealii::TrilinosWrappers::MPI::Vector     system_rhs;
-    dealii::TrilinosWrappers::MPI::Vector     solution;
-    dealii::TrilinosWrappers::PreconditionAMG preconditioner;
-    /**
-     * The split assembly (assemble_fixed_cells()): which active cells are
-     * assembled again (by active_cell_index()), the locally owned rows
-     * they can add to (local row of the matrix and position of the row's
-     * first value in @p kept_values), the values of these rows and
-     * right-hand side entries from the other cells.
-     */
-    struct KeptRow
-    {
-      /** Local index of the row in the matrix and in the vector. */
-      int matrix_row, vector_entry;
-      /** Where the row's values start in kept_values. */
-      std::size_t first_value;
-      double      rhs;
-    };
-    std::vector<bool>    changing_cell;
-    std::vector<KeptRow> kept_rows;
-    std::vector<double>  kept_values;
-
-    /** Near-null space handed to ML; must outlive the preconditioner. */
-    std::unique_ptr<Epetra_MultiVector> near_null_space;
   };
 } // namespace TKR::Elasticity
 

@@ -5,6 +5,7 @@
 #define tkr_mortar_contact_surface_h
 
 #include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
 #include <deal.II/base/types.h>
 
 #include <deal.II/dofs/dof_handler.h>
@@ -74,6 +75,27 @@ namespace TKR::Mortar
     double
     orientation(const unsigned int                   f,
                 const std::vector<dealii::Point<3>> &positions) const;
+
+    /** Nodal areas and normals of the surface at some vertex positions. */
+    struct NodalMeasures
+    {
+      /** int phi_j over the surface (mm^2): the node's share of the area
+       *  (the mortar D_jj of the dual basis). */
+      std::vector<double> area;
+      /** The unit normal int phi_j n / |int phi_j n|, pointing out of the
+       *  body. */
+      std::vector<dealii::Tensor<1, 3>> normal;
+      /** The whole area (mm^2), the sum of @p area. */
+      double total_area = 0;
+    };
+
+    /**
+     * The nodal areas and normals of the surface with its vertices at
+     * @p positions (indexed by triangulation vertex), integrated with 2x2
+     * Gauss points per bilinear face (exact for flat faces).
+     */
+    NodalMeasures
+    nodal_measures(const std::vector<dealii::Point<3>> &positions) const;
 
   private:
     std::vector<Node>                      node_list;

@@ -272,11 +272,6 @@ namespace TKR::Mortar
     void
     update_slave_cache(const std::vector<dealii::Point<3>> &positions);
 
-    /** D_jj (nodal areas) and nodal normals over the whole slave surface. */
-    void
-    compute_nodal_areas_and_normals(
-      const std::vector<dealii::Point<3>> &positions);
-
     /** Slave face @p e projected onto its auxiliary plane; false if the
      *  projection is not convex. */
     bool

@@ -6,7 +6,10 @@
 
 #include <deal.II/base/conditional_ostream.h>
 
+#include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/mapping.h>
+
+#include <deal.II/lac/vector.h>
 
 #include <deal.II/numerics/data_out.h>
 
@@ -17,7 +20,11 @@
 #include <tkr/output/vtu_output.h>
 
 #include <functional>
+#include <list>
 #include <ostream>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace TKR::Output
 {
@@ -35,14 +42,46 @@ namespace TKR::Output
               const bool                        testing);
 
   /**
-   * Up to three scalar fields given per node of a contact surface (e.g.
-   * pressure, gap, active flag) and their names, for write_solution().
+   * Scalar fields given per node of a contact surface (e.g. pressure, gap,
+   * active flag) and their names, one name per field, for
+   * write_solution().
    */
   struct SurfaceFields
   {
     const Mortar::ContactSurface    *surface;
     std::vector<std::string>         names;
     std::vector<std::vector<double>> values;
+  };
+
+  /**
+   * Scalar fields given per triangulation vertex, written by a DataOut as
+   * point data of their own names (on a scalar Q1 DoFHandler of their
+   * own, so no field needs to fill the components of a vector). Add the
+   * fields, then attach() them to a DataOut on the same triangulation;
+   * this object must live until the patches are built.
+   */
+  class VertexFields
+  {
+  public:
+    explicit VertexFields(const dealii::Triangulation<3> &triangulation);
+
+    /** A field of one value per triangulation vertex. */
+    void
+    add(const std::string &name, const std::vector<double> &values);
+
+    /** The fields of @p surface_fields (zero away from their surface). */
+    void
+    add(const SurfaceFields &surface_fields);
+
+    /** Add every field to @p data_out (call after the last add()). */
+    void
+    attach(dealii::DataOut<3> &data_out) const;
+
+  private:
+    const dealii::FE_Q<3>                                     fe;
+    dealii::DoFHandler<3>                                     dof_handler;
+    std::vector<dealii::types::global_dof_index>              dof_of_vertex;
+    std::list<std::pair<std::string, dealii::Vector<double>>> fields;
   };
 
   /**
@@ -59,16 +98,17 @@ namespace TKR::Output
              const dealii::ConditionalOStream &out);
 
   /**
-   * Write the displacement, the stress tensor, the von Mises stress, the
-   * material id and the MPI partition of @p elasticity as output @p index
-   * of @p series, with the @p surface_fields (stored in the displacement
-   * components of vectors on the same DoFHandler, zero away from their
-   * surface); @p add_fields may attach further data vectors before the
-   * patches are built.
+   * Write the displacement @p solution (ghosted, on the DoFHandler of
+   * @p elasticity), the stress tensor, the von Mises stress, the material
+   * id and the MPI partition as output @p index of @p series, with the
+   * @p surface_fields (point data, zero away from their surface);
+   * @p add_fields may attach further data vectors before the patches are
+   * built.
    */
   void
   write_solution(
     const Elasticity::LinearElasticity              &elasticity,
+    const dealii::TrilinosWrappers::MPI::Vector     &solution,
     const dealii::Mapping<3>                        &mapping,
     VtuSeries                                       &series,
     const unsigned int                               index,

@@ -9,11 +9,11 @@
 #include <tkr/contact/contact_state.h>
 #include <tkr/elasticity/linear_elasticity.h>
 #include <tkr/gait/rigid_motion.h>
+#include <tkr/geometry/worn_geometry.h>
 #include <tkr/mortar/contact_surface.h>
 #include <tkr/output/vtu_output.h>
 #include <tkr/wear/step_record.h>
 #include <tkr/wear/wear_state.h>
-#include <tkr/wear/worn_geometry.h>
 
 #include <string>
 #include <vector>
@@ -63,33 +63,30 @@ namespace TKR::Output
   };
 
   /**
-   * Output @p index of @p series: the solution in @p elasticity, the
-   * contact state, the slip and wear to the next step, and the `motion`
-   * field (femur flexed: warp by it in ParaView).
+   * Output @p index of @p series: the displacement @p solution (on the
+   * DoFHandler of @p elasticity), the contact state, the slip and wear to
+   * the next step, and the `motion` field (femur flexed: warp by it in
+   * ParaView).
    */
   void
-  write_step(const Elasticity::LinearElasticity &elasticity,
-             const dealii::Mapping<3>           &mapping,
-             const StepFields                   &fields,
-             VtuSeries                          &series,
-             const unsigned int                  index);
+  write_step(const Elasticity::LinearElasticity          &elasticity,
+             const dealii::TrilinosWrappers::MPI::Vector &solution,
+             const dealii::Mapping<3>                    &mapping,
+             const StepFields                            &fields,
+             VtuSeries                                   &series,
+             const unsigned int                           index);
 
   /**
-   * Per-vertex fields of the worn tibia after an extrapolation block
+   * Named per-vertex fields of the worn tibia after an extrapolation block
    * (indexed by triangulation vertex; values away from tibia_contact are
-   * zero).
+   * zero), in the order they are written: e.g. the accumulated wear depth
+   * (`wear_depth_mm`), the wear rate of the block's cycle
+   * (`wear_rate_um_per_Mcycles`), the contact pressure at the step of the
+   * largest axial force (`peak_load_pressure_MPa`), the slip over the
+   * cycle (`cycle_slip_mm`) and whatever the wear law adds.
    */
-  struct WornTibiaFields
-  {
-    /** Accumulated wear depth (mm). */
-    std::vector<double> depth;
-    /** Wear depth of the block's cycle per million cycles (um). */
-    std::vector<double> wear_rate;
-    /** Contact pressure at the step of the largest axial force (MPa). */
-    std::vector<double> peak_load_pressure;
-    /** Slip over the block's cycle (mm). */
-    std::vector<double> slip;
-  };
+  using WornTibiaFields =
+    std::vector<std::pair<std::string, std::vector<double>>>;
 
   /**
    * Output @p index of @p series, at time @p cycles: the tibia alone in its
@@ -97,11 +94,11 @@ namespace TKR::Output
    * written as the vector field `wear_displacement`), with @p fields.
    */
   void
-  write_worn_tibia(const Wear::WornGeometry &geometry,
-                   const WornTibiaFields    &fields,
-                   VtuSeries                &series,
-                   const unsigned int        index,
-                   const double              cycles);
+  write_worn_tibia(const Geometry::WornGeometry &geometry,
+                   const WornTibiaFields        &fields,
+                   VtuSeries                    &series,
+                   const unsigned int            index,
+                   const double                  cycles);
 
   /**
    * `wear_map.csv` (x,y,z,depth_mm per tibia_contact node, worn positions)
@@ -111,7 +108,7 @@ namespace TKR::Output
   void
   write_wear_map(const std::string            &directory,
                  const Mortar::ContactSurface &surface,
-                 const Wear::WornGeometry     &geometry,
+                 const Geometry::WornGeometry &geometry,
                  const MPI_Comm                mpi_communicator);
 
   /**

@@ -43,7 +43,7 @@ namespace TKR::Problems
     const Mortar::MortarCoupling &
     get_coupling() const
     {
-      return *model.coupling;
+      return model.coupling();
     }
 
   private:
@@ -69,6 +69,8 @@ namespace TKR::Problems
     dealii::AffineConstraints<double>       dirichlet;
     Elasticity::BoundaryLoads               loads;
     Contact::ContactState                   state;
+    /** The displacement of the solve (ghosted). */
+    dealii::TrilinosWrappers::MPI::Vector solution;
   };
 } // namespace TKR::Problems
 

@@ -6,7 +6,10 @@
 
 #include <deal.II/lac/affine_constraints.h>
 
+#include <tkr/elasticity/elastic_system.h>
 #include <tkr/problems/two_body_model.h>
+
+#include <memory>
 
 namespace TKR::Problems
 {
@@ -39,6 +42,8 @@ namespace TKR::Problems
 
     TwoBodyModel                      model;
     dealii::AffineConstraints<double> constraints;
+    /** The linear system of the two bodies (set up in setup_system()). */
+    std::unique_ptr<Elasticity::ElasticSystem> system;
   };
 } // namespace TKR::Problems
 

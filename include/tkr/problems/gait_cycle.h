@@ -121,7 +121,7 @@ namespace TKR::Problems
     const Mortar::MortarCoupling &
     get_coupling() const
     {
-      return *model.coupling;
+      return model.coupling();
     }
 
   private:

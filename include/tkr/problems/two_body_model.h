@@ -10,10 +10,10 @@
 #include <deal.II/distributed/shared_tria.h>
 
 #include <tkr/elasticity/linear_elasticity.h>
+#include <tkr/geometry/worn_geometry.h>
 #include <tkr/mortar/mortar_coupling.h>
 #include <tkr/output/summary.h>
 #include <tkr/parameters/parameters.h>
-#include <tkr/wear/worn_geometry.h>
 
 #include <functional>
 #include <memory>
@@ -29,7 +29,7 @@ namespace TKR::Problems
   /**
    * What every problem shares: the parameters, the screen and the timer,
    * the parallel::shared triangulation with both bodies, their geometry
-   * (Wear::WornGeometry: the mesh, moved by the accumulated wear), the
+   * (Geometry::WornGeometry: the mesh, moved by the accumulated wear), the
    * two-body LinearElasticity on it, the summary.json record and the wall
    * clock of the run. The verbs frame a run: start(), make_grid(),
    * distribute_dofs(), ..., finish().
@@ -85,21 +85,121 @@ namespace TKR::Problems
     const dealii::Mapping<3> &
     mapping() const
     {
-      return geometry.get_mapping();
+      return worn_geometry.get_mapping();
     }
 
-    const Parameters::AllParameters           &parameters;
-    const MPI_Comm                             world;
-    const MPI_Comm                             communicator;
-    dealii::ConditionalOStream                 pcout;
-    dealii::TimerOutput                        timer;
+    const Parameters::AllParameters &
+    parameters() const
+    {
+      return prm;
+    }
+
+    /** All ranks of the run (screen, files). */
+    MPI_Comm
+    world() const
+    {
+      return world_communicator;
+    }
+
+    /** The ranks that share this model's triangulation and solvers. */
+    MPI_Comm
+    communicator() const
+    {
+      return model_communicator;
+    }
+
+    /** The screen (rank 0 of world()). */
+    const dealii::ConditionalOStream &
+    pcout() const
+    {
+      return screen;
+    }
+
+    dealii::TimerOutput &
+    timer()
+    {
+      return timer_output;
+    }
+
+    /** Wall time since the model was made (s). */
+    double
+    wall_time() const
+    {
+      return wall_timer.wall_time();
+    }
+
+    const dealii::Triangulation<3> &
+    triangulation() const
+    {
+      return tria;
+    }
+
+    /** The geometry (mesh moved by the accumulated wear). */
+    Geometry::WornGeometry &
+    geometry()
+    {
+      return worn_geometry;
+    }
+
+    const Geometry::WornGeometry &
+    geometry() const
+    {
+      return worn_geometry;
+    }
+
+    const Elasticity::LinearElasticity &
+    elasticity() const
+    {
+      return two_bodies;
+    }
+
+    /** `tibia_contact`, after setup_contact_surfaces(). */
+    const Mortar::ContactSurface &
+    slave_surface() const
+    {
+      return *slave;
+    }
+
+    /** `femur_contact`, after setup_contact_surfaces(). */
+    const Mortar::ContactSurface &
+    master_surface() const
+    {
+      return *master;
+    }
+
+    /** The mortar coupling, after setup_contact_surfaces(). */
+    Mortar::MortarCoupling &
+    coupling()
+    {
+      return *mortar_coupling;
+    }
+
+    const Mortar::MortarCoupling &
+    coupling() const
+    {
+      return *mortar_coupling;
+    }
+
+    /** The record of summary.json. */
+    Output::Summary &
+    summary()
+    {
+      return run_summary;
+    }
+
+  private:
+    const Parameters::AllParameters           &prm;
+    const MPI_Comm                             world_communicator;
+    const MPI_Comm                             model_communicator;
+    dealii::ConditionalOStream                 screen;
+    dealii::TimerOutput                        timer_output;
     dealii::Timer                              wall_timer;
-    dealii::parallel::shared::Triangulation<3> triangulation;
-    Wear::WornGeometry                         geometry;
-    Elasticity::LinearElasticity               elasticity;
+    dealii::parallel::shared::Triangulation<3> tria;
+    Geometry::WornGeometry                     worn_geometry;
+    Elasticity::LinearElasticity               two_bodies;
     std::unique_ptr<Mortar::ContactSurface>    slave, master;
-    std::unique_ptr<Mortar::MortarCoupling>    coupling;
-    Output::Summary                            summary;
+    std::unique_ptr<Mortar::MortarCoupling>    mortar_coupling;
+    Output::Summary                            run_summary;
   };
 } // namespace TKR::Problems
 

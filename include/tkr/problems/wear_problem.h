@@ -5,10 +5,10 @@
 #define tkr_problems_wear_problem_h
 
 #include <tkr/base/mpi.h>
+#include <tkr/geometry/mesh_motion.h>
 #include <tkr/output/vtu_output.h>
 #include <tkr/problems/gait_cycle.h>
 #include <tkr/problems/two_body_model.h>
-#include <tkr/wear/mesh_motion.h>
 #include <tkr/wear/wear_state.h>
 
 #include <memory>
@@ -23,8 +23,8 @@ namespace TKR::Problems
    * (GaitCycle) on the current worn geometry, Archard's wear of that cycle
    * times n_Delta added to the accumulated depth, the tibia_contact nodes
    * moved inward along the worn surface's normal by the new depth and the
-   * motion extended into the tibia (Wear::MeshMotion); the result is the
-   * Euler vector of the model's Wear::WornGeometry. A block that would
+   * motion extended into the tibia (Geometry::MeshMotion); the result is the
+   * Euler vector of the model's Geometry::WornGeometry. A block that would
    * distort a tibia cell beyond the `Distortion limit` is refused, or
    * retried with half the cycles. The stiffness follows the worn geometry
    * every `Stiffness update interval` blocks. Every step starts from the
@@ -85,13 +85,13 @@ namespace TKR::Problems
     void
     output_results();
 
-    const bool          resume;
-    const StepGroups    groups;
-    TwoBodyModel        model;
-    GaitCycle           cycle;
-    Wear::MeshMotion    motion;
-    Wear::WearRunState  state;
-    std::vector<double> cycle_depth, cycle_slip;
+    const bool           resume;
+    const StepGroups     groups;
+    TwoBodyModel         model;
+    GaitCycle            cycle;
+    Geometry::MeshMotion motion;
+    Wear::WearRunState   state;
+    std::vector<double>  cycle_depth, cycle_slip;
     /** The block's statistics: peak pressure, largest contact area. */
     double                             peak_pressure = 0, max_contact_area = 0;
     std::unique_ptr<Output::VtuSeries> worn_series;

@@ -3,9 +3,10 @@
 
 #include <deal.II/fe/fe_q.h>
 
-#include <tkr/wear/worn_geometry.h>
+#include <tkr/geometry/worn_geometry.h>
+#include <tkr/mesh/mesh.h>
 
-namespace TKR::Wear
+namespace TKR::Geometry
 {
   using namespace dealii;
 
@@ -31,6 +32,9 @@ namespace TKR::Wear
     stiffness_euler_mapping =
       std::make_unique<EulerMapping>(1, dof_handler, stiffness_displacement);
     depth.assign(triangulation.n_vertices(), 0.);
+    surface = std::make_unique<Mortar::ContactSurface>(
+      dof_handler,
+      Mesh::BoundaryIds::tibia_contact);
     update_positions();
   }
 
@@ -55,6 +59,7 @@ namespace TKR::Wear
     const auto u = vertex_displacements();
     for (unsigned int v = 0; v < positions.size(); ++v)
       positions[v] += u[v];
+    surface_measures = surface->nodal_measures(positions);
   }
 
   std::vector<Tensor<1, 3>>
@@ -132,4 +137,4 @@ namespace TKR::Wear
     AssertDimension(new_depth.size(), depth.size());
     depth = new_depth;
   }
-} // namespace TKR::Wear
+} // namespace TKR::Geometry

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // This file is part of tkr-wear.
 
-#ifndef tkr_wear_mesh_motion_h
-#define tkr_wear_mesh_motion_h
+#ifndef tkr_geometry_mesh_motion_h
+#define tkr_geometry_mesh_motion_h
 
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
@@ -16,11 +16,11 @@
 #include <deal.II/lac/trilinos_vector.h>
 
 #include <tkr/elasticity/direct_solver.h>
-#include <tkr/wear/worn_geometry.h>
+#include <tkr/geometry/worn_geometry.h>
 
 #include <vector>
 
-namespace TKR::Wear
+namespace TKR::Geometry
 {
   /** How much a displacement field distorts the tibia's cells. */
   struct Distortion
@@ -99,6 +99,6 @@ namespace TKR::Wear
     dealii::TrilinosWrappers::SparseMatrix matrix;
     mutable Elasticity::DirectSolver       direct_solver;
   };
-} // namespace TKR::Wear
+} // namespace TKR::Geometry
 
 #endif

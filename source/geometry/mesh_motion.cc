@@ -10,12 +10,12 @@
 #include <deal.II/lac/full_matrix.h>
 
 #include <tkr/elasticity/linear_elasticity.h>
+#include <tkr/geometry/mesh_motion.h>
 #include <tkr/mesh/mesh.h>
-#include <tkr/wear/mesh_motion.h>
 
 #include <limits>
 
-namespace TKR::Wear
+namespace TKR::Geometry
 {
   using namespace dealii;
 
@@ -216,4 +216,4 @@ namespace TKR::Wear
         }
     return result;
   }
-} // namespace TKR::Wear
+} // namespace TKR::Geometry

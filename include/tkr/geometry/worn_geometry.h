@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // This file is part of tkr-wear.
 
-#ifndef tkr_wear_worn_geometry_h
-#define tkr_wear_worn_geometry_h
+#ifndef tkr_geometry_worn_geometry_h
+#define tkr_geometry_worn_geometry_h
 
 #include <deal.II/base/index_set.h>
 #include <deal.II/base/point.h>
@@ -16,10 +16,12 @@
 
 #include <deal.II/lac/trilinos_vector.h>
 
+#include <tkr/mortar/contact_surface.h>
+
 #include <memory>
 #include <vector>
 
-namespace TKR::Wear
+namespace TKR::Geometry
 {
   /**
    * The one owner of the bodies' reference geometry (DESIGN.md sections
@@ -44,6 +46,11 @@ namespace TKR::Wear
    * The gait's rigid motions (the femur's flexion, the tibia's pose) are
    * not part of it: they change from step to step and are applied to
    * vertex_positions() for the coupling only (the femur is co-rotated).
+   *
+   * It also knows the worn surface itself: the `tibia_contact` nodes
+   * (worn_surface(), numbered as the slave nodes of the mortar coupling)
+   * with their nodal areas and outward normals in the current geometry
+   * (worn_surface_measures()), along which the wear moves them.
    */
   class WornGeometry
   {
@@ -72,6 +79,26 @@ namespace TKR::Wear
     /** From now on the stiffness is assembled on the current geometry. */
     void
     update_stiffness_geometry();
+
+    /**
+     * The `tibia_contact` surface (its nodes in the order of the mortar
+     * coupling's slave nodes, on the displacement field's DoFs).
+     */
+    const Mortar::ContactSurface &
+    worn_surface() const
+    {
+      return *surface;
+    }
+
+    /**
+     * Nodal areas (mm^2) and outward unit normals of worn_surface() in the
+     * current geometry.
+     */
+    const Mortar::ContactSurface::NodalMeasures &
+    worn_surface_measures() const
+    {
+      return surface_measures;
+    }
 
     /** Position of every triangulation vertex in the worn geometry (mm). */
     const std::vector<dealii::Point<3>> &
@@ -183,8 +210,10 @@ namespace TKR::Wear
     dealii::TrilinosWrappers::MPI::Vector displacement, stiffness_displacement;
     std::unique_ptr<EulerMapping>         mapping, stiffness_euler_mapping;
     std::vector<dealii::Point<3>>         positions;
-    std::vector<double>                   depth;
+    std::unique_ptr<Mortar::ContactSurface> surface;
+    Mortar::ContactSurface::NodalMeasures   surface_measures;
+    std::vector<double>                     depth;
   };
-} // namespace TKR::Wear
+} // namespace TKR::Geometry
 
 #endif
