@@ -241,16 +241,6 @@ namespace TKR::Gait
     return functionals;
   }
 
-  InferiorMotion
-  TibiaPose::motion_from(const std::array<double, 4> &functionals)
-  {
-    InferiorMotion motion;
-    for (unsigned int d = 0; d < 3; ++d)
-      motion.mean[d] = functionals[d];
-    motion.rotation_z = functionals[3];
-    return motion;
-  }
-
   // The pose iteration solves r = 0 for the residual
   //   r = (mean displacement of the inferior surface,
   //        (F_e - F) / k_beyond, (T_e - T) / k_beyond at the rim),

@@ -10,8 +10,12 @@
 #include <tkr/base/exceptions.h>
 #include <tkr/output/checkpoint.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
 
 namespace TKR::Output
 {
@@ -19,7 +23,7 @@ namespace TKR::Output
 
   namespace
   {
-    constexpr unsigned int format_version = 1;
+    constexpr unsigned int format_version = 2;
     /** Columns of the history dataset (Wear::BlockResult). */
     constexpr unsigned int n_history_columns = 9;
 
@@ -71,10 +75,101 @@ namespace TKR::Output
     return directory + "/checkpoint.h5";
   }
 
+  namespace
+  {
+    /** FNV-1a (64 bit) of the bytes of @p file, in hex ("" if unreadable). */
+    std::string
+    checksum(const std::string &file)
+    {
+      std::ifstream in(file, std::ios::binary);
+      if (!in.good())
+        return "";
+      std::uint64_t hash = 14695981039346656037ull;
+      char          c;
+      while (in.get(c))
+        {
+          hash ^= static_cast<unsigned char>(c);
+          hash *= 1099511628211ull;
+        }
+      std::ostringstream text;
+      text << std::hex << std::setw(16) << std::setfill('0') << hash;
+      return text.str();
+    }
+
+    /** The state parameters as "entry = value" lines. */
+    std::string
+    to_text(const std::map<std::string, std::string> &entries)
+    {
+      std::string text;
+      for (const auto &[entry, value] : entries)
+        text += entry + " = " + value + "\n";
+      return text;
+    }
+
+    /** The lines of to_text() back as entries. */
+    std::map<std::string, std::string>
+    from_text(const std::string &text)
+    {
+      std::map<std::string, std::string> entries;
+      std::istringstream                 in(text);
+      std::string                        line;
+      while (std::getline(in, line))
+        if (const auto equals = line.find(" = "); equals != std::string::npos)
+          entries[line.substr(0, equals)] = line.substr(equals + 3);
+      return entries;
+    }
+
+    /** Refuse a checkpoint whose state parameters differ from @p now. */
+    void
+    check_parameters(const std::string                        &filename,
+                     const std::map<std::string, std::string> &then,
+                     const std::map<std::string, std::string> &now)
+    {
+      for (const auto &[entry, value] : now)
+        {
+          const auto        it = then.find(entry);
+          const std::string old_value =
+            it == then.end() ? "(not recorded)" : it->second;
+          AssertThrow(old_value == value,
+                      ExcInputError(
+                        "--resume: the checkpoint <" + filename +
+                        "> was written with " + entry + " = " + old_value +
+                        ", but the parameter file sets " + value +
+                        ". A run can only be resumed with the entries that "
+                        "determine its wear state unchanged (doc/output.md); "
+                        "change it back, or start a new run in another "
+                        "Output/Directory."));
+        }
+    }
+  } // namespace
+
+  std::map<std::string, std::string>
+  state_parameters(const Parameters::AllParameters &parameters)
+  {
+    std::map<std::string, std::string> state;
+    const auto starts_with = [](const std::string &s, const std::string &p) {
+      return s.rfind(p, 0) == 0;
+    };
+    for (const auto &[entry, value] : parameters.entries)
+      if ((starts_with(entry, "Mesh/") && entry != "Mesh/File") ||
+          starts_with(entry, "Materials/") ||
+          (starts_with(entry, "Gait/") && entry != "Gait/Step groups" &&
+           entry != "Gait/Waveform file") ||
+          (starts_with(entry, "Wear/") && entry != "Wear/Cycles" &&
+           entry != "Wear/Distortion limit" &&
+           entry != "Wear/Halve step on distortion"))
+        state[entry] = value;
+    state["Mesh/File (checksum)"] = checksum(parameters.mesh.file);
+    state["Gait/Waveform file (checksum)"] =
+      checksum(parameters.gait.waveform_file);
+    return state;
+  }
+
   void
-  write_checkpoint(const std::string        &directory,
-                   const Wear::WearRunState &state,
-                   const MPI_Comm            mpi_communicator)
+  write_checkpoint(const std::string               &directory,
+                   const Wear::WearRunState        &state,
+                   const Parameters::AllParameters &parameters,
+                   const MPI_Comm                   mpi_communicator)
   {
     if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
       {
@@ -82,6 +177,8 @@ namespace TKR::Output
         {
           HDF5::File file(temporary, HDF5::File::FileAccessMode::create);
           file.set_attribute("format_version", format_version);
+          file.set_attribute("parameters",
+                             to_text(state_parameters(parameters)));
           file.set_attribute("block", state.block);
           file.set_attribute("cycles", state.cycles);
           file.set_attribute("cycles_per_block", state.cycles_per_block);
@@ -112,29 +209,29 @@ namespace TKR::Output
                         {n_vertices, 3});
           write_dataset(file, "depth", state.depth, {n_vertices});
 
-          // Warm starts: pose (translation, restraint force and torque)
-          // and active set of every step.
+          // Warm starts: the pose (the protocol's numbers, opaque here)
+          // and the active set of every step.
           const hsize_t n_steps = state.step_starts.size();
           const hsize_t n_nodes =
             n_steps > 0 ? state.step_starts[0].active.size() : 0;
+          const hsize_t pose_size =
+            n_steps > 0 ? state.step_starts[0].pose.values.size() : 0;
+          file.set_attribute("pose_size", static_cast<unsigned int>(pose_size));
           std::vector<double>       poses;
           std::vector<unsigned int> active;
           for (const auto &start : state.step_starts)
             {
-              const auto &p = start.pose;
-              poses.insert(poses.end(),
-                           {p.translation[0],
-                            p.translation[1],
-                            p.translation[2],
-                            p.restraint_force,
-                            p.restraint_torque});
+              const auto &p = start.pose.values;
+              AssertThrow(p.size() == pose_size,
+                          ExcMessage("Poses of different sizes."));
+              poses.insert(poses.end(), p.begin(), p.end());
               AssertThrow(start.active.size() == n_nodes,
                           ExcMessage("Active sets of different sizes."));
               active.insert(active.end(),
                             start.active.begin(),
                             start.active.end());
             }
-          write_dataset(file, "step_pose", poses, {n_steps, 5});
+          write_dataset(file, "step_pose", poses, {n_steps, pose_size});
           write_dataset(file, "step_active", active, {n_steps, n_nodes});
 
           std::vector<double> history;
@@ -164,9 +261,10 @@ namespace TKR::Output
   }
 
   Wear::WearRunState
-  read_checkpoint(const std::string &directory,
-                  const unsigned int n_vertices,
-                  const unsigned int n_steps)
+  read_checkpoint(const std::string               &directory,
+                  const unsigned int               n_vertices,
+                  const unsigned int               n_steps,
+                  const Parameters::AllParameters &parameters)
   {
     const std::string filename = checkpoint_file(directory);
     AssertThrow(std::filesystem::exists(filename),
@@ -177,6 +275,18 @@ namespace TKR::Output
     try
       {
         HDF5::File file(filename, HDF5::File::FileAccessMode::open);
+        AssertThrow(
+          file.get_attribute<unsigned int>("format_version") == format_version,
+          ExcInputError(
+            "The checkpoint <" + filename +
+            "> was written by another version of "
+            "tkr-wear (checkpoint format " +
+            std::to_string(file.get_attribute<unsigned int>("format_version")) +
+            ", this one reads " + std::to_string(format_version) + ")."));
+        check_parameters(filename,
+                         from_text(
+                           file.get_attribute<std::string>("parameters")),
+                         state_parameters(parameters));
         AssertThrow(
           file.get_attribute<unsigned int>("format_version") ==
               format_version &&
@@ -210,14 +320,14 @@ namespace TKR::Output
         const auto poses  = read_dataset<double>(file, "step_pose");
         const auto active = read_dataset<unsigned int>(file, "step_active");
         const unsigned int n_nodes = n_steps > 0 ? active.size() / n_steps : 0;
+        const unsigned int pose_size =
+          file.get_attribute<unsigned int>("pose_size");
         state.step_starts.resize(n_steps);
         for (unsigned int s = 0; s < n_steps; ++s)
           {
             auto &start = state.step_starts[s];
-            for (unsigned int d = 0; d < 3; ++d)
-              start.pose.translation[d] = poses[5 * s + d];
-            start.pose.restraint_force  = poses[5 * s + 3];
-            start.pose.restraint_torque = poses[5 * s + 4];
+            start.pose.values.assign(poses.begin() + s * pose_size,
+                                     poses.begin() + (s + 1) * pose_size);
             start.active.assign(active.begin() + s * n_nodes,
                                 active.begin() + (s + 1) * n_nodes);
           }

@@ -22,19 +22,18 @@ namespace TKR::Output
 
   std::string
   step_line(const unsigned int      step,
-            const Wear::StepReport &r,
+            const Gait::StepReport &r,
+            const Gait::Protocol   &protocol,
             const bool              testing)
   {
     std::ostringstream line;
     line << "  step " << std::setw(3) << step << " (" << std::fixed
-         << std::setprecision(1) << std::setw(5) << r.percent << " %): flexion "
-         << std::setw(5) << r.flexion << " deg, axial " << std::setw(6)
-         << std::setprecision(0) << r.axial_force << " N, " << std::setw(4)
+         << std::setprecision(1) << std::setw(5) << r.input.percent
+         << " %): " << protocol.input_text(r) << ", " << std::setw(4)
          << r.active_nodes << " active, " << std::setw(2) << r.newton_iterations
-         << " Newton/" << r.pose_updates << " pose, tibia y "
-         << std::setprecision(2) << std::setw(5) << r.tibia_pose[1] << " z "
-         << std::setw(5) << r.tibia_pose[2] << " mm, max p " << std::setw(6)
-         << r.max_pressure << " MPa"
+         << " Newton/" << r.pose_updates << " pose, " << protocol.pose_text(r)
+         << ", max p " << std::setprecision(2) << std::setw(6) << r.max_pressure
+         << " MPa"
          << (r.converged      ? "" :
              r.pose_converged ? "  NOT CONVERGED" :
                                 "  POSE NOT CONVERGED");
@@ -45,26 +44,33 @@ namespace TKR::Output
 
   void
   write_steps_csv(const std::string                   &directory,
-                  const std::vector<Wear::StepReport> &reports,
+                  const std::vector<Gait::StepReport> &reports,
+                  const Gait::Protocol                &protocol,
                   const MPI_Comm                       mpi_communicator)
   {
     if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
       return;
     std::ofstream csv(directory + "/steps.csv");
-    csv << "step,percent,flexion_deg,axial_force_N,ap_force_N,"
-           "ie_torque_Nm,active_nodes,newton_iterations,pose_updates,"
-           "max_pressure_MPa,contact_force_N,contact_area_mm2,converged,"
-           "ap_position_mm,ie_rotation_deg\n"
-        << std::setprecision(10);
+    csv << "step,percent";
+    for (const auto &column : protocol.input_columns())
+      csv << ',' << column;
+    csv << ",active_nodes,newton_iterations,pose_updates,"
+           "max_pressure_MPa,contact_force_N,contact_area_mm2,converged";
+    for (const auto &column : protocol.pose_columns())
+      csv << ',' << column;
+    csv << '\n' << std::setprecision(10);
     for (unsigned int i = 0; i < reports.size(); ++i)
       {
-        const Wear::StepReport &r = reports[i];
-        csv << i << ',' << r.percent << ',' << r.flexion << ',' << r.axial_force
-            << ',' << r.ap_force << ',' << r.ie_torque << ',' << r.active_nodes
-            << ',' << r.newton_iterations << ',' << r.pose_updates << ','
-            << r.max_pressure << ',' << r.contact_force << ',' << r.contact_area
-            << ',' << r.converged << ',' << r.tibia_pose[1] << ','
-            << r.ie_rotation << '\n';
+        const Gait::StepReport &r = reports[i];
+        csv << i << ',' << r.input.percent;
+        for (const double value : r.input.values)
+          csv << ',' << value;
+        csv << ',' << r.active_nodes << ',' << r.newton_iterations << ','
+            << r.pose_updates << ',' << r.max_pressure << ',' << r.contact_force
+            << ',' << r.contact_area << ',' << r.converged;
+        for (const double value : r.pose_values)
+          csv << ',' << value;
+        csv << '\n';
       }
   }
 

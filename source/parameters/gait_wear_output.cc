@@ -14,17 +14,31 @@ namespace TKR::Parameters
   using internal::get_vector;
   using internal::vector_pattern;
 
-  void
-  Gait::declare_parameters(ParameterHandler &prm)
+  namespace
   {
-    prm.enter_subsection("Gait");
+    /** The protocol, its waveform and the knee's frame. */
+    void
+    declare_gait_cycle(ParameterHandler &prm)
     {
-      prm.declare_entry("Waveform file",
-                        "data/iso14243-1.csv",
-                        Patterns::FileName(),
-                        "CSV table of the gait cycle: percent of cycle, "
-                        "flexion angle (deg), axial force (N), AP force (N), "
-                        "IE torque (N m).");
+      prm.declare_entry(
+        "Control",
+        "force",
+        Patterns::Selection("force"),
+        "The gait protocol, how the simulator drives the knee: force = ISO "
+        "14243-1 force control (flexion prescribed; axial force, AP force "
+        "and IE torque applied to the tibia, held by the AP and IE "
+        "restraints; the tibia's pose solved in every step). The waveform "
+        "file must have the protocol's columns (doc/gait.md).");
+      prm.declare_entry(
+        "Waveform file",
+        "data/iso14243-1.csv",
+        Patterns::FileName(),
+        "CSV table of the gait cycle, read by the column names of its "
+        "header line: percent_cycle and the protocol's channels (force: "
+        "flexion_deg, axial_force_N, ap_force_N, ie_torque_Nm); other "
+        "columns are ignored. The rows must cover the whole cycle. A "
+        "relative path is taken from the directory of the parameter file "
+        "that sets it, then from the working directory.");
       prm.declare_entry("Steps per cycle",
                         "100",
                         Patterns::Integer(1),
@@ -43,6 +57,12 @@ namespace TKR::Parameters
                         Patterns::Selection("+x|-x"),
                         "Which direction of x is medial (left and right "
                         "knees differ).");
+    }
+
+    /** The loads on the tibia and its restraints (force control). */
+    void
+    declare_gait_loads(ParameterHandler &prm)
+    {
       prm.declare_entry("Axial load offset",
                         "0.07",
                         Patterns::Double(-0.5, 0.5),
@@ -85,6 +105,12 @@ namespace TKR::Parameters
                         "IE restraint stiffness beyond the IE spring range, "
                         "N mm/deg. Equal to the IE spring stiffness: a "
                         "linear spring.");
+    }
+
+    /** The tibia's pose solve, its tray and the parallel steps. */
+    void
+    declare_gait_pose(ParameterHandler &prm)
+    {
       prm.declare_entry("Axial stabilisation spring",
                         "100",
                         Patterns::Double(0),
@@ -147,6 +173,17 @@ namespace TKR::Parameters
                         "table's convention (positive = internal rotation of "
                         "the tibia).");
     }
+  } // namespace
+
+  void
+  Gait::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Gait");
+    {
+      declare_gait_cycle(prm);
+      declare_gait_loads(prm);
+      declare_gait_pose(prm);
+    }
     prm.leave_subsection();
   }
 
@@ -155,6 +192,7 @@ namespace TKR::Parameters
   {
     prm.enter_subsection("Gait");
     {
+      control             = GaitControl::force;
       waveform_file       = prm.get("Waveform file");
       steps_per_cycle     = prm.get_integer("Steps per cycle");
       flexion_axis_point  = Point<3>(get_vector(prm, "Flexion axis point"));
@@ -189,6 +227,13 @@ namespace TKR::Parameters
   {
     prm.enter_subsection("Wear");
     {
+      prm.declare_entry("Wear law",
+                        "archard",
+                        Patterns::Selection("archard"),
+                        "How the sliding of a gait cycle wears the insert "
+                        "(doc/wear.md): archard = Archard's law with the "
+                        "constant Wear coefficient k, depth rate k p |v_t| "
+                        "(the reference paper's model).");
       prm.declare_entry("Wear coefficient",
                         "2e-7",
                         Patterns::Double(0),
@@ -246,6 +291,7 @@ namespace TKR::Parameters
   {
     prm.enter_subsection("Wear");
     {
+      law              = WearLawType::archard;
       wear_coefficient = prm.get_double("Wear coefficient");
       cycles           = prm.get_double("Cycles");
       cycles_per_extrapolation_step =
@@ -288,7 +334,10 @@ namespace TKR::Parameters
                         Patterns::Anything(),
                         "Optional CSV file (columns cycles,mass_mg[,specimen]; "
                         "see data/measured/README.md) whose points are drawn "
-                        "over the computed mass loss in mass_loss.png.");
+                        "over the computed mass loss in mass_loss.png. A "
+                        "relative path is taken from the directory of the "
+                        "parameter file that sets it, then from the "
+                        "working directory.");
       prm.declare_entry("Plots",
                         "true",
                         Patterns::Bool(),

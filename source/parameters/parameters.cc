@@ -6,6 +6,7 @@
 #include <tkr/base/exceptions.h>
 #include <tkr/parameters/parameters.h>
 
+#include "parameter_file.h"
 #include "vector_entry.h"
 
 #include <fstream>
@@ -27,8 +28,11 @@ namespace TKR::Parameters
                         "meshes/tkr/tkr-a-coarse.msh",
                         Patterns::FileName(),
                         "The gmsh mesh (.msh, format 4.1) that holds both "
-                        "bodies as separate hexahedral volumes. Relative "
-                        "paths are relative to the working directory.");
+                        "bodies as separate hexahedral volumes. A relative "
+                        "path is taken from the directory of the parameter "
+                        "file that sets it, then from the working "
+                        "directory, then from the tkr-wear sources (the "
+                        "bundled meshes).");
       prm.declare_entry("Finite element degree",
                         "1",
                         Patterns::Integer(1, 3),
@@ -490,27 +494,30 @@ namespace TKR::Parameters
     verification.parse_parameters(prm);
   }
 
-  // ParameterHandler reports a bad line with an exception whose message
-  // already names the file and the line ("Line <7> of file <x.prm>: ...").
-  // We keep that message, drop deal.II's stack-trace header, and add the
-  // hint where to find the valid entries.
+  // ParameterHandler reads the text with the includes expanded
+  // (internal::ParameterText) and reports a bad line with an exception
+  // whose message names the line ("Line <7> of file <x.prm>: ..."). We
+  // keep that message with the file and line the text came from, drop
+  // deal.II's stack-trace header, and add the hint where to find the valid
+  // entries. Relative paths are taken from the directory of the file that
+  // sets them (then the working directory, then the sources' bundled
+  // data).
   AllParameters
   read_parameters(const std::string &filename)
   {
-    AssertThrow(std::ifstream(filename).good(),
-                ExcInputError("Cannot open the parameter file <" + filename +
-                              ">: it does not exist or is not readable."));
-    ParameterHandler prm;
+    const internal::ParameterText text(filename);
+    ParameterHandler              prm;
     AllParameters::declare_parameters(prm);
     try
       {
-        prm.parse_input(filename);
+        std::istringstream in(text.text());
+        prm.parse_input(in, filename);
       }
     catch (const ExceptionBase &exc)
       {
         AssertThrow(false,
                     ExcInputError(
-                      exception_message(exc) +
+                      text.locate(exception_message(exc)) +
                       "\n(tkr-wear --print-parameters lists every valid "
                       "entry with its documentation.)"));
       }
@@ -526,6 +533,15 @@ namespace TKR::Parameters
                                   ">: " + exception_message(exc)));
       }
     parameters.parameter_file = filename;
+    parameters.entries        = internal::list_entries(prm);
+    const auto resolve = [&](std::string &path, const std::string &entry) {
+      path = internal::resolve_path(path, text.directory_of(entry));
+      parameters.entries[entry] = path;
+    };
+    resolve(parameters.mesh.file, "Mesh/File");
+    resolve(parameters.gait.waveform_file, "Gait/Waveform file");
+    resolve(parameters.output.measured_mass_loss_file,
+            "Output/Measured mass loss file");
     return parameters;
   }
 

@@ -2,6 +2,7 @@
 // This file is part of tkr-wear.
 
 #include <deal.II/base/function.h>
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/timer.h>
 
 #include <deal.II/numerics/vector_tools.h>
@@ -10,8 +11,8 @@
 #include <tkr/mesh/mesh.h>
 #include <tkr/output/wear_output.h>
 #include <tkr/problems/gait_cycle.h>
-#include <tkr/wear/archard.h>
 
+#include <algorithm>
 #include <iomanip>
 #include <limits>
 
@@ -28,15 +29,9 @@ namespace TKR::Problems
   GaitCycle::setup()
   {
     const auto &parameters = model.parameters();
-    auto       &pcout      = model.pcout();
-    waveform = std::make_unique<Gait::Waveform>(parameters.gait.waveform_file);
-    const Gait::InferiorSurface surface =
-      Gait::measure_inferior_surface(model.triangulation());
-    gait_loads = std::make_unique<Gait::GaitLoads>(parameters.gait, surface);
-    tibia_pose =
-      std::make_unique<Gait::TibiaPose>(parameters.gait, *gait_loads);
-    pcout << "Tibia inferior surface: " << surface.area
-          << " mm^2, insert width " << surface.width << " mm" << std::endl;
+    const auto &pcout      = model.pcout();
+    protocol = Gait::create_protocol(parameters.gait, model.triangulation());
+    pcout << protocol->setup_text() << std::endl;
 
     const auto &dof_handler = model.elasticity().get_dof_handler();
     pcout << "Degrees of freedom: " << dof_handler.n_dofs()
@@ -46,28 +41,22 @@ namespace TKR::Problems
       Mesh::material_vertices(model.triangulation(), Mesh::MaterialIds::femur);
 
     // The femur is clamped on its fixation surface (in its co-rotated
-    // frame); the tibia has no displacement condition.
+    // frame); the tibia's support is the protocol's.
     dirichlet.clear();
     VectorTools::interpolate_boundary_values(model.mapping(),
                                              dof_handler,
                                              Mesh::BoundaryIds::femur_fixation,
                                              Functions::ZeroFunction<3>(3),
                                              dirichlet);
-    if (parameters.gait.rigid_tray)
-      {
-        const unsigned int n_tied =
-          tibia_pose->add_tray_constraints(dof_handler, dirichlet);
-        pcout << "Tibial tray: rigid (no sagittal tilt), " << n_tied
-              << " inferior nodes tied to 5 DoFs" << std::endl;
-      }
+    protocol->add_constraints(dof_handler, dirichlet, pcout);
     dirichlet.close();
 
     model.setup_contact_surfaces();
 
     const unsigned int n_steps = parameters.gait.steps_per_cycle;
     records.assign(n_steps, Wear::StepRecord());
-    reports.assign(n_steps, Wear::StepReport());
-    starts.assign(n_steps, Wear::StepStart());
+    reports.assign(n_steps, Gait::StepReport());
+    starts.assign(n_steps, Gait::StepStart());
     setup_solver();
     if (parameters.output.vtu_interval > 0)
       step_series =
@@ -78,7 +67,7 @@ namespace TKR::Problems
   }
 
   // The stiffness (with the springs) is the same in every step and pose
-  // update; the rigid part of the tibia's motion is read through linear
+  // update; what the pose solve reads of the displacement are linear
   // functionals that every solve evaluates.
   void
   GaitCycle::setup_solver()
@@ -96,11 +85,16 @@ namespace TKR::Problems
                                        model.timer());
     solver->setup(model.geometry().stiffness_mapping(),
                   dirichlet,
-                  tibia_pose->springs());
-    for (const auto &functional : tibia_pose->motion_functionals())
-      solver->add_observation(
-        model.elasticity().load_vector(model.mapping(), dirichlet, functional));
-    solver->set_load_basis(model.mapping(), tibia_pose->load_basis());
+                  protocol->springs());
+    observation_names.clear();
+    for (const auto &[name, functional] : protocol->observations())
+      {
+        solver->add_observation(model.elasticity().load_vector(model.mapping(),
+                                                               dirichlet,
+                                                               functional));
+        observation_names.push_back(name);
+      }
+    solver->set_load_basis(model.mapping(), protocol->load_basis());
     if (!first)
       return;
     model.pcout() << "Contact solver: " << solver->description();
@@ -112,13 +106,12 @@ namespace TKR::Problems
   }
 
   std::vector<Point<3>>
-  GaitCycle::step_positions(const Gait::RigidMotion &femur_motion,
-                            const Tensor<1, 3>      &tibia_translation) const
+  GaitCycle::step_positions(const Gait::RelativeMotion &motion) const
   {
     std::vector<Point<3>> positions = model.geometry().vertex_positions();
     for (unsigned int v = 0; v < positions.size(); ++v)
       if (is_femur_vertex[v])
-        positions[v] = femur_motion(positions[v]) - tibia_translation;
+        positions[v] = motion(positions[v]);
     return positions;
   }
 
@@ -162,134 +155,154 @@ namespace TKR::Problems
                               "the mesh and the flexion axis point."));
   }
 
-  // One gait step: the femur's position for the flexion angle, then the
-  // pose iteration, each iteration a mortar coupling on the moved geometry
-  // and a contact solve. Every step starts from the same state (no pose,
-  // the initial active set), whichever steps its group solved before: the
-  // result then does not depend on how the steps are distributed.
+  void
+  GaitCycle::couple(const Gait::RelativeMotion   &motion,
+                    const Mortar::CouplingWindow *window)
+  {
+    TimerOutput::Scope scope(model.timer(), "mortar coupling");
+    model.coupling().reinit(step_positions(motion),
+                            model.parameters().contact_solver.search_distance,
+                            motion.rotation(),
+                            window);
+  }
+
+  // A warm start from where the step ended in the previous block, or rest
+  // (the tibia lifted to touch the femur if that is far from it). The
+  // coupling window (Mortar::CouplingWindow) follows the face clearances
+  // of the step's previous solve, if the step is warm started: a cold
+  // step's first solves are too far from its end for a narrow window.
+  Gait::Pose
+  GaitCycle::start_step(const unsigned int     step,
+                        const Gait::StepInput &input,
+                        StepProgress          &progress) const
+  {
+    const auto &parameters = model.parameters();
+    progress.window.width  = parameters.contact_solver.coupling_window;
+    if (parameters.wear.warm_start)
+      progress.window.face_clearance = starts[step].face_clearance;
+    progress.use_window =
+      progress.window.width > 0 && !progress.window.face_clearance.empty();
+    if (parameters.wear.warm_start && !starts[step].empty())
+      {
+        progress.state.active = starts[step].active;
+        return starts[step].pose;
+      }
+    const double lift = touching_lift(
+      step_positions(protocol->motion(input, protocol->rest_pose(input, 0.))));
+    if (lift > 0.5 * parameters.contact_solver.search_distance &&
+        lift < std::numeric_limits<double>::max())
+      return protocol->rest_pose(input, lift);
+    return protocol->rest_pose(input, 0.);
+  }
+
+  // A solve that leaves the coupling window is repeated on the whole
+  // search distance.
+  bool
+  GaitCycle::contact_solve(const unsigned int     step,
+                           const Gait::StepInput &input,
+                           const Gait::Pose      &pose,
+                           StepProgress          &progress)
+  {
+    const auto                &parameters = model.parameters();
+    const Gait::RelativeMotion motion     = protocol->motion(input, pose);
+    bool                       narrow     = progress.use_window;
+    couple(motion, narrow ? &progress.window : nullptr);
+    if (narrow && model.coupling().statistics().n_covered_nodes == 0)
+      {
+        narrow = false;
+        couple(motion, nullptr);
+      }
+    AssertThrow(model.coupling().statistics().n_covered_nodes > 0,
+                ExcInputError("Gait step " + std::to_string(step) +
+                              ": no part of tibia_contact faces "
+                              "femur_contact within the search "
+                              "distance; check the flexion axis point."));
+    if (step == 0 && progress.n_solves == 0)
+      check_initial_overlap();
+    ++progress.n_solves;
+    const std::vector<double> coefficients =
+      protocol->load_coefficients(input, pose);
+    const auto solve = [&]() {
+      progress.statistics =
+        solver->solve(model.mapping(),
+                      coefficients,
+                      parameters.contact_solver.initial_contact_distance,
+                      progress.state);
+      progress.newton_iterations += progress.statistics.newton_iterations;
+    };
+    solve();
+    auto &state = progress.state;
+    if (narrow && !model.coupling().window_holds(state.displacement,
+                                                 state.master_displacement))
+      {
+        ++window_misses;
+        couple(motion, nullptr);
+        solve();
+      }
+    if (progress.window.width > 0)
+      progress.window.face_clearance =
+        model.coupling().face_clearances(state.displacement,
+                                         state.master_displacement);
+    std::vector<double> values;
+    for (unsigned int i = 0; i < observation_names.size(); ++i)
+      values.push_back(solver->observation(i));
+    progress.observations = Gait::Observations(observation_names, values);
+    return progress.statistics.converged;
+  }
+
+  // One gait step: the protocol's pose solve, each of its contact solves a
+  // mortar coupling on the moved geometry and a solve; then the record
+  // for the wear and the report. Every step starts from the same state
+  // (start_step()), whichever steps its group solved before: the result
+  // then does not depend on how the steps are distributed.
   void
   GaitCycle::solve_step(const unsigned int step,
                         const bool         print,
                         const bool         keep_for_output)
   {
-    const auto             &parameters = model.parameters();
-    Timer                   step_timer;
-    const Gait::GaitState   gait   = waveform->at(100. * step / n_steps());
-    const Gait::RigidMotion motion = gait_loads->femur_motion(gait);
+    const auto           &parameters = model.parameters();
+    Timer                 step_timer;
+    const Gait::StepInput input = protocol->input(100. * step / n_steps());
+    StepProgress          progress;
+    Gait::Pose            pose       = start_step(step, input, progress);
+    const Gait::PoseSolve pose_solve = protocol->solve_pose(
+      input,
+      pose,
+      [&](const Gait::Pose &at, Gait::Observations &observed) {
+        const bool converged = contact_solve(step, input, at, progress);
+        observed             = progress.observations;
+        return converged;
+      });
 
-    // A warm start from where the step ended in the previous block, or
-    // rest (the tibia lifted to touch the femur if that is far from it:
-    // touching_lift()).
-    Contact::ContactState state;
-    Gait::PoseState       pose;
-    if (parameters.wear.warm_start && !starts[step].active.empty())
-      {
-        state.active = starts[step].active;
-        pose         = starts[step].pose;
-      }
-    else
-      {
-        const double lift = touching_lift(step_positions(motion, {}));
-        if (lift > 0.5 * parameters.contact_solver.search_distance &&
-            lift < std::numeric_limits<double>::max())
-          pose.translation[2] = lift;
-      }
-    // The coupling window (Mortar::CouplingWindow) follows the face
-    // clearances of the step's previous solve, if the step is warm started
-    // (from the previous block): a cold step's first solves are too far
-    // from its end for a narrow window. A solve that leaves it is repeated
-    // on the whole search distance.
-    Mortar::CouplingWindow window;
-    window.width = parameters.contact_solver.coupling_window;
-    if (parameters.wear.warm_start)
-      window.face_clearance = starts[step].face_clearance;
-    const bool use_window = window.width > 0 && !window.face_clearance.empty();
-    const auto couple = [&](const Gait::PoseState &pose, const bool narrow) {
-      TimerOutput::Scope scope(model.timer(), "mortar coupling");
-      model.coupling().reinit(step_positions(motion, pose.translation),
-                              parameters.contact_solver.search_distance,
-                              motion.rotation,
-                              narrow ? &window : nullptr);
-    };
-    Contact::ContactStatistics statistics;
-    unsigned int               newton_iterations = 0, n_solves = 0;
-    const auto                 solve = [&](const Gait::PoseState &pose,
-                           Gait::InferiorMotion  &inferior) {
-      bool narrow = use_window;
-      couple(pose, narrow);
-      if (narrow && model.coupling().statistics().n_covered_nodes == 0)
-        {
-          narrow = false;
-          couple(pose, narrow);
-        }
-      AssertThrow(model.coupling().statistics().n_covered_nodes > 0,
-                  ExcInputError("Gait step " + std::to_string(step) +
-                                ": no part of tibia_contact faces "
-                                                "femur_contact within the search "
-                                                "distance; check the flexion axis point."));
-      if (step == 0 && n_solves == 0)
-        check_initial_overlap();
-      ++n_solves;
-      const auto contact_solve = [&]() {
-        statistics =
-          solver->solve(model.mapping(),
-                        tibia_pose->load_coefficients(gait, pose),
-                        parameters.contact_solver.initial_contact_distance,
-                        state);
-        newton_iterations += statistics.newton_iterations;
-      };
-      contact_solve();
-      if (narrow && !model.coupling().window_holds(state.displacement,
-                                                   state.master_displacement))
-        {
-          ++window_misses;
-          couple(pose, false);
-          contact_solve();
-        }
-      if (window.width > 0)
-        window.face_clearance =
-          model.coupling().face_clearances(state.displacement,
-                                           state.master_displacement);
-      inferior = Gait::TibiaPose::motion_from({{solver->observation(0),
-                                                solver->observation(1),
-                                                solver->observation(2),
-                                                solver->observation(3)}});
-      return statistics.converged;
-    };
-    const Gait::PoseIteration iteration = tibia_pose->iterate(pose, solve);
-
-    records[step] =
-      Wear::make_step_record(model.coupling(), state, motion, pose.translation);
-    Wear::StepReport &report = reports[step];
-    report.percent           = gait.percent;
-    report.flexion           = gait.flexion;
-    report.axial_force       = gait.axial_force;
-    report.ap_force          = gait.ap_force;
-    report.ie_torque         = gait.ie_torque;
-    report.active_nodes      = statistics.n_active;
-    report.newton_iterations = newton_iterations;
-    report.pose_updates      = iteration.n_updates;
-    report.tibia_pose        = pose.translation;
-    report.ie_rotation       = iteration.motion.rotation_z;
-    report.max_pressure      = statistics.max_pressure;
-    report.contact_force     = statistics.contact_force.norm();
-    report.contact_area      = statistics.contact_area;
-    report.converged         = statistics.converged && iteration.converged;
-    report.pose_converged    = iteration.converged;
+    const Gait::RelativeMotion motion = protocol->motion(input, pose);
+    const auto                &state  = progress.state;
+    const auto                &stats  = progress.statistics;
+    records[step] = Wear::make_step_record(model.coupling(), state, motion);
+    Gait::StepReport &report = reports[step];
+    report                   = Gait::StepReport();
+    report.input             = input;
+    protocol->report(pose, progress.observations, report);
+    report.active_nodes      = stats.n_active;
+    report.newton_iterations = progress.newton_iterations;
+    report.pose_updates      = pose_solve.n_updates;
+    report.max_pressure      = stats.max_pressure;
+    report.contact_force     = stats.contact_force.norm();
+    report.contact_area      = stats.contact_area;
+    report.converged         = stats.converged && pose_solve.converged;
+    report.pose_converged    = pose_solve.converged;
     report.wall_time         = step_timer.wall_time();
-    starts[step]             = {pose, state.active, window.face_clearance};
+    starts[step] = {pose, state.active, progress.window.face_clearance};
     if (groups.n_groups == 1 && (print || !report.converged))
       model.pcout() << Output::step_line(step,
                                          report,
+                                         *protocol,
                                          parameters.output.testing)
                     << std::endl;
     // The step's VTU needs the slip to the next step: it is written after
     // the cycle (output_steps()).
     if (keep_for_output && parameters.output.vtu_interval > 0 &&
         step % parameters.output.vtu_interval == 0)
-      {
-        saved_steps[step] = {solver->compute_solution(), state, motion};
-      }
+      saved_steps[step] = {solver->compute_solution(), state, motion};
   }
 
   bool
@@ -301,12 +314,7 @@ namespace TKR::Problems
       solve_step(step, print_steps, keep_for_output);
     {
       TimerOutput::Scope scope(model.timer(), "collect steps");
-      Wear::gather_steps(groups.is_group_root ? steps :
-                                                std::vector<unsigned int>(),
-                         records,
-                         reports,
-                         starts,
-                         model.world());
+      gather_steps(groups.is_group_root ? steps : std::vector<unsigned int>());
     }
     bool converged = true;
     for (unsigned int step = 0; step < n_steps(); ++step)
@@ -314,6 +322,7 @@ namespace TKR::Problems
         if (groups.n_groups > 1 && (print_steps || !reports[step].converged))
           model.pcout() << Output::step_line(step,
                                              reports[step],
+                                             *protocol,
                                              model.parameters().output.testing)
                         << std::endl;
         converged = converged && reports[step].converged;
@@ -321,25 +330,77 @@ namespace TKR::Problems
     return converged;
   }
 
-  // The slip and wear of each tibia node over the interval to the next
-  // step need both steps' records: the VTU files are written after the
-  // cycle.
+  namespace
+  {
+    /** A step's record, report and end state, for the exchange. */
+    struct StepResult
+    {
+      unsigned int     step = 0;
+      Wear::StepRecord record;
+      Gait::StepReport report;
+      Gait::StepStart  start;
+
+      template <class Archive>
+      void
+      serialize(Archive &archive, const unsigned int)
+      {
+        archive &step &record &report &start;
+      }
+    };
+  } // namespace
+
+  // Each step's results are taken from the one rank that lists it (the
+  // root of the step group that solved it; the others list none).
   void
-  GaitCycle::output_steps()
+  GaitCycle::gather_steps(const std::vector<unsigned int> &own_steps)
+  {
+    std::vector<StepResult> mine;
+    for (const unsigned int step : own_steps)
+      mine.push_back({step, records[step], reports[step], starts[step]});
+    for (const auto &from_rank :
+         Utilities::MPI::all_gather(model.world(), mine))
+      for (const auto &result : from_rank)
+        {
+          records[result.step] = result.record;
+          reports[result.step] = result.report;
+          starts[result.step]  = result.start;
+        }
+  }
+
+  unsigned int
+  GaitCycle::peak_load_step() const
+  {
+    const auto columns = protocol->input_columns();
+    const auto axial =
+      std::find(columns.begin(), columns.end(), "axial_force_N");
+    const auto load = [&](const Gait::StepReport &report) {
+      return axial != columns.end() ?
+               report.input.values[axial - columns.begin()] :
+               report.contact_force;
+    };
+    return std::max_element(reports.begin(),
+                            reports.end(),
+                            [&](const auto &a, const auto &b) {
+                              return load(a) < load(b);
+                            }) -
+           reports.begin();
+  }
+
+  // The slip and wear of each tibia node over the interval to the next
+  // step come from the wear law's result for the cycle: the VTU files are
+  // written after it.
+  void
+  GaitCycle::output_steps(const Wear::CycleWear &wear)
   {
     TimerOutput::Scope scope(model.timer(), "output");
-    const double       k = 1e-3 * model.parameters().wear.wear_coefficient;
     for (const auto &[step, saved] : saved_steps)
       {
         Output::StepFields fields;
         fields.slave_surface = &model.slave_surface();
         fields.state         = &saved.state;
-        fields.femur_motion  = saved.motion;
-        fields.wear_to_next =
-          Wear::interval_wear_depth(records[step],
-                                    records[(step + 1) % n_steps()],
-                                    k,
-                                    &fields.slip_to_next);
+        fields.femur_motion  = saved.motion.femur;
+        fields.slip_to_next  = wear.interval_slip[step];
+        fields.wear_to_next  = wear.interval_depth[step];
         for (double &depth : fields.wear_to_next)
           depth *= 1e9; // mm -> pm
         Output::write_step(model.elasticity(),

@@ -7,7 +7,7 @@
 #include <tkr/output/checkpoint.h>
 #include <tkr/output/wear_output.h>
 #include <tkr/problems/wear_problem.h>
-#include <tkr/wear/archard.h>
+#include <tkr/wear/sliding.h>
 
 #include <algorithm>
 #include <cmath>
@@ -27,6 +27,7 @@ namespace TKR::Problems
     , model(parameters, mpi_communicator, groups.communicator)
     , cycle(model, groups)
     , motion(model.geometry(), groups.communicator, model.timer())
+    , law(Wear::create_wear_law(parameters.wear))
   {}
 
   void
@@ -42,7 +43,8 @@ namespace TKR::Problems
       }
     state = Output::read_checkpoint(directory,
                                     model.triangulation().n_vertices(),
-                                    cycle.n_steps());
+                                    cycle.n_steps(),
+                                    parameters);
     model.geometry().set_vertex_displacements(state.displacement,
                                               state.stiffness_displacement);
     model.geometry().set_wear_depth(state.depth);
@@ -54,21 +56,13 @@ namespace TKR::Problems
                   << " cycles" << std::endl;
   }
 
-  // Archard's law integrated over the cycle gives each tibia_contact
-  // node's depth; volume = sum of depth x D_jj, mass = density x volume.
-  // The first cycle (on the unworn insert) is reported in full, per
-  // million cycles, so that regression tests compare O(1) numbers; its
-  // wear area counts the nodes whose depth extrapolated linearly to the
-  // Cycles of the parameter file exceeds the threshold.
+  // The wear law over the cycle's sliding gives each tibia_contact node's
+  // depth; the block's statistics come from the step reports.
   void
   WearProblem::compute_wear()
   {
-    const auto &parameters = model.parameters();
-    const auto &wear       = parameters.wear;
-    const auto &reports    = cycle.get_reports();
-    cycle_depth            = Wear::cycle_wear_depth(cycle.get_records(),
-                                         1e-3 * wear.wear_coefficient,
-                                         &cycle_slip);
+    const auto &reports = cycle.get_reports();
+    cycle_wear    = law->cycle_wear(Wear::CycleSliding(cycle.get_records()));
     peak_pressure = max_contact_area = 0;
     unsigned int n_newton = 0, n_solves = 0, n_converged = 0;
     for (const auto &r : reports)
@@ -84,33 +78,46 @@ namespace TKR::Problems
     state.steps += reports.size();
     state.converged    = state.converged && n_converged == reports.size();
     state.max_pressure = std::max(state.max_pressure, peak_pressure);
-    if (state.block > 0)
-      return;
+    if (state.block == 0)
+      report_first_cycle();
+  }
 
-    const double volume = Wear::worn_volume(cycle_depth, cycle.get_coupling());
-    const double mass   = parameters.materials.tibia.density * volume;
-    const auto  &nodes  = cycle.get_coupling().slave_nodes();
-    double       max_depth = 0, area = 0, worn_area = 0;
-    for (unsigned int j = 0; j < cycle_depth.size(); ++j)
+  // The first cycle (on the unworn insert) is reported in full, per
+  // million cycles, so that regression tests compare O(1) numbers; its
+  // wear area counts the nodes whose depth extrapolated linearly to the
+  // Cycles of the parameter file exceeds the threshold.
+  void
+  WearProblem::report_first_cycle()
+  {
+    const auto &parameters = model.parameters();
+    const auto &wear       = parameters.wear;
+    const auto &reports    = cycle.get_reports();
+    const auto  measures =
+      Wear::measure_wear(cycle_wear.depth,
+                         model.geometry().worn_surface_measures().area,
+                         wear.wear_area_threshold,
+                         wear.cycles);
+    const double mass = parameters.materials.tibia.density * measures.volume;
+    unsigned int n_newton = 0, n_solves = 0, n_converged = 0;
+    for (const auto &r : reports)
       {
-        max_depth = std::max(max_depth, cycle_depth[j]);
-        area += nodes[j].D;
-        if (cycle_depth[j] * wear.cycles > wear.wear_area_threshold)
-          worn_area += nodes[j].D;
+        n_newton += r.newton_iterations;
+        n_solves += r.pose_updates + 1;
+        n_converged += r.converged;
       }
-    model.pcout() << "Wear of the first cycle (Archard, k = "
-                  << wear.wear_coefficient << " mm^3/(N m)):" << std::endl
-                  << "  volume loss:       " << 1e6 * volume
+    model.pcout() << "Wear of the first cycle (" << law->description()
+                  << "):" << std::endl
+                  << "  volume loss:       " << 1e6 * measures.volume
                   << " mm^3 per million cycles" << std::endl
                   << "  mass loss:         " << 1e6 * mass
                   << " mg per million cycles" << std::endl
-                  << "  max wear depth:    " << 1e9 * max_depth
+                  << "  max wear depth:    " << 1e9 * measures.max_depth
                   << " um per million cycles" << std::endl
                   << "  peak pressure:     " << peak_pressure
                   << " MPa (over the cycle)" << std::endl
                   << "  max contact area:  " << max_contact_area << " mm^2"
                   << std::endl
-                  << "  wear area:         " << 100. * worn_area / area
+                  << "  wear area:         " << measures.worn_percent()
                   << " % of tibia_contact (depth x " << wear.cycles
                   << " cycles > " << wear.wear_area_threshold << " mm)"
                   << std::endl
@@ -125,30 +132,35 @@ namespace TKR::Problems
     state.first_cycle_mass = mass;
   }
 
-  // The depth grows by n x the cycle's depth at every tibia_contact node;
-  // the node moves inward along the worn surface's nodal normal (on the
-  // current geometry, Geometry::WornGeometry::worn_surface_measures()) by
-  // the new depth, and MeshMotion extends that into the tibia.
+  // The law turns the block of n cycles into a number of cycles at the
+  // computed cycle's rate (n, unless the rate depends on the cycle count);
+  // the depth grows by that many times the cycle's depth at every
+  // tibia_contact node; the node moves inward along the worn surface's
+  // nodal normal (Geometry::WornGeometry::worn_surface_measures()) by the
+  // new depth, and MeshMotion extends that into the tibia.
   double
   WearProblem::extrapolate()
   {
     const auto &parameters = model.parameters();
     const auto &wear       = parameters.wear;
-    const auto &normals    = model.geometry().worn_surface_measures().normal;
-    const auto &surface    = model.geometry().worn_surface().nodes();
+    // The surface the cycle wore (moving it updates the geometry's).
+    const auto  measures = model.geometry().worn_surface_measures();
+    const auto &surface  = model.geometry().worn_surface().nodes();
+    block_areas          = measures.area;
     const std::vector<Tensor<1, 3>> displacement =
       model.geometry().vertex_displacements();
     for (;;)
       {
         const double n =
           std::min(state.cycles_per_block, wear.cycles - state.cycles);
+        const double effective = law->effective_cycles(state.cycles, n);
         std::vector<Tensor<1, 3>> target = displacement;
         std::vector<double> increment(model.triangulation().n_vertices(), 0.);
         for (unsigned int j = 0; j < surface.size(); ++j)
           {
             const unsigned int v = surface[j].vertex;
-            increment[v]         = n * cycle_depth[j];
-            target[v] -= increment[v] * normals[j];
+            increment[v]         = effective * cycle_wear.depth[j];
+            target[v] -= increment[v] * measures.normal[j];
           }
         const auto moved      = motion.extend(target);
         const auto distortion = motion.distortion(moved);
@@ -157,64 +169,70 @@ namespace TKR::Problems
             model.geometry().set_vertex_displacements(moved);
             model.geometry().add_wear_depth(increment);
             state.volume +=
-              n * Wear::worn_volume(cycle_depth, cycle.get_coupling());
+              effective *
+              Wear::measure_wear(cycle_wear.depth, measures.area, 0.).volume;
             state.cycles += n;
             ++state.block;
             return n;
           }
-        double depth = 0;
-        for (const unsigned int v : distortion.vertices)
-          depth =
-            std::max(depth, model.geometry().wear_depth()[v] + increment[v]);
-        const Point<3>    &x = distortion.centre;
-        std::ostringstream message;
-        message << "Block " << state.block + 1 << " (" << n
-                << " cycles from cycle " << state.cycles
-                << "): the worn geometry would distort tibia cell "
-                << distortion.cell << " (centre " << x[0] << ", " << x[1]
-                << ", " << x[2] << "), where the wear depth reaches " << depth
-                << " mm: its smallest Jacobian would drop to "
-                << distortion.min_ratio
-                << " of the unworn cell's, below the Distortion limit of "
-                << wear.distortion_limit << ".";
+        const std::string message =
+          distortion_message(n, distortion, increment);
         AssertThrow(wear.halve_step_on_distortion && n > 1,
-                    ExcInputError(message.str() +
+                    ExcInputError(message +
                                   " Reduce Wear/Cycles per extrapolation "
                                   "step, set Halve step on distortion = "
                                   "true, or refine the mesh where the "
                                   "insert wears."));
         state.cycles_per_block = 0.5 * n;
-        model.pcout() << "Warning: " << message.str()
+        model.pcout() << "Warning: " << message
                       << " Halving the cycles per block to "
                       << state.cycles_per_block << " and retrying."
                       << std::endl;
       }
   }
 
+  std::string
+  WearProblem::distortion_message(const double                n,
+                                  const Geometry::Distortion &distortion,
+                                  const std::vector<double>  &increment) const
+  {
+    double depth = 0;
+    for (const unsigned int v : distortion.vertices)
+      depth = std::max(depth, model.geometry().wear_depth()[v] + increment[v]);
+    const Point<3>    &x = distortion.centre;
+    std::ostringstream message;
+    message << "Block " << state.block + 1 << " (" << n << " cycles from cycle "
+            << state.cycles << "): the worn geometry would distort tibia cell "
+            << distortion.cell << " (centre " << x[0] << ", " << x[1] << ", "
+            << x[2] << "), where the wear depth reaches " << depth
+            << " mm: its smallest Jacobian would drop to "
+            << distortion.min_ratio
+            << " of the unworn cell's, below the Distortion limit of "
+            << model.parameters().wear.distortion_limit << ".";
+    return message.str();
+  }
+
   void
   WearProblem::finish_block(const double block_wall_time)
   {
-    const auto &parameters = model.parameters();
-    const auto &output     = parameters.output;
-    const auto &nodes      = cycle.get_coupling().slave_nodes();
-    const auto &surface    = cycle.get_coupling().slave_surface().nodes();
-    const auto &depth      = model.geometry().wear_depth();
-    double      max_depth = 0, area = 0, worn_area = 0;
-    for (unsigned int j = 0; j < nodes.size(); ++j)
-      {
-        const double d = depth[surface[j].vertex];
-        max_depth      = std::max(max_depth, d);
-        area += nodes[j].D;
-        if (d > parameters.wear.wear_area_threshold)
-          worn_area += nodes[j].D;
-      }
+    const auto         &parameters = model.parameters();
+    const auto         &output     = parameters.output;
+    const auto         &surface    = model.geometry().worn_surface().nodes();
+    const auto         &depth      = model.geometry().wear_depth();
+    std::vector<double> node_depth(surface.size());
+    for (unsigned int j = 0; j < surface.size(); ++j)
+      node_depth[j] = depth[surface[j].vertex];
+    const auto measures =
+      Wear::measure_wear(node_depth,
+                         block_areas,
+                         parameters.wear.wear_area_threshold);
     const double wall_time = state.wall_time + model.wall_time();
     state.history.push_back({state.block,
                              state.cycles,
                              state.volume,
                              parameters.materials.tibia.density * state.volume,
-                             max_depth,
-                             100. * worn_area / area,
+                             measures.max_depth,
+                             measures.worn_percent(),
                              peak_pressure,
                              max_contact_area,
                              wall_time});
@@ -222,18 +240,27 @@ namespace TKR::Problems
                                state.history,
                                output.testing,
                                model.world());
+    report_progress(block_wall_time);
+    if (output.vtu_interval > 0 && groups.index == 0)
+      output_worn_tibia();
+    write_checkpoint_if_due();
+  }
 
-    // Progress: on the screen and in progress.log.
+  void
+  WearProblem::report_progress(const double block_wall_time) const
+  {
+    const auto        &parameters = model.parameters();
+    const auto        &last       = state.history.back();
     const unsigned int n_blocks =
       state.block + std::ceil((parameters.wear.cycles - state.cycles) /
                                 state.cycles_per_block -
                               1e-9);
     std::ostringstream line;
     line << "Block " << std::setw(4) << state.block << "/" << n_blocks << ": "
-         << std::setw(9) << state.cycles << " cycles, mass loss "
-         << state.history.back().mass << " mg, max depth " << 1e3 * max_depth
-         << " um, wear area " << 100. * worn_area / area << " %";
-    if (!output.testing)
+         << std::setw(9) << state.cycles << " cycles, mass loss " << last.mass
+         << " mg, max depth " << 1e3 * last.max_depth << " um, wear area "
+         << last.wear_area_percent << " %";
+    if (!parameters.output.testing)
       {
         const double remaining = (n_blocks - state.block) * block_wall_time;
         line << ", " << std::fixed << std::setprecision(1) << block_wall_time
@@ -243,63 +270,73 @@ namespace TKR::Problems
     model.pcout() << line.str() << std::endl;
     if (Utilities::MPI::this_mpi_process(model.world()) == 0)
       {
-        std::ofstream log(output.directory + "/progress.log", std::ios::app);
+        std::ofstream log(parameters.output.directory + "/progress.log",
+                          std::ios::app);
         log << line.str() << std::endl;
       }
+  }
 
-    // The worn tibia (group 0 writes it).
-    if (output.vtu_interval > 0 && groups.index == 0)
-      {
-        if (!worn_series)
-          worn_series =
-            std::make_unique<Output::VtuSeries>(output.directory,
-                                                "worn",
-                                                groups.communicator);
-        const unsigned int  n_vertices = model.triangulation().n_vertices();
-        std::vector<double> wear_rate(n_vertices, 0.);
-        std::vector<double> peak_load_pressure(n_vertices, 0.);
-        std::vector<double> slip(n_vertices, 0.);
-        const auto         &reports = cycle.get_reports();
-        const unsigned int  peak_step =
-          std::max_element(reports.begin(),
-                           reports.end(),
-                           [](const auto &a, const auto &b) {
-                             return a.axial_force < b.axial_force;
-                           }) -
-          reports.begin();
-        for (unsigned int j = 0; j < nodes.size(); ++j)
-          {
-            const unsigned int v  = surface[j].vertex;
-            wear_rate[v]          = 1e9 * cycle_depth[j];
-            peak_load_pressure[v] = cycle.get_records()[peak_step].pressure[j];
-            slip[v]               = cycle_slip[j];
-          }
-        const Output::WornTibiaFields fields = {
-          {"wear_depth_mm", depth},
-          {"wear_rate_um_per_Mcycles", wear_rate},
-          {"peak_load_pressure_MPa", peak_load_pressure},
-          {"cycle_slip_mm", slip}};
-        Output::write_worn_tibia(model.geometry(),
-                                 fields,
-                                 *worn_series,
-                                 state.block,
-                                 state.cycles);
-      }
+  // The tibia in its worn geometry with the accumulated depth, the wear
+  // rate, the slip of the block's cycle, the pressure at its largest load
+  // and the law's own fields, per vertex.
+  void
+  WearProblem::output_worn_tibia()
+  {
+    const auto &output = model.parameters().output;
+    if (!worn_series)
+      worn_series = std::make_unique<Output::VtuSeries>(output.directory,
+                                                        "worn",
+                                                        groups.communicator);
+    const auto        &surface    = model.geometry().worn_surface().nodes();
+    const unsigned int n_vertices = model.triangulation().n_vertices();
+    const auto        &peak       = cycle.get_records()[cycle.peak_load_step()];
+    const auto         per_vertex = [&](const auto &node_value) {
+      std::vector<double> values(n_vertices, 0.);
+      for (unsigned int j = 0; j < surface.size(); ++j)
+        values[surface[j].vertex] = node_value(j);
+      return values;
+    };
+    Output::WornTibiaFields fields = {
+      {"wear_depth_mm", model.geometry().wear_depth()},
+      {"wear_rate_um_per_Mcycles", per_vertex([&](const unsigned int j) {
+         return 1e9 * cycle_wear.depth[j];
+       })},
+      {"peak_load_pressure_MPa",
+       per_vertex([&](const unsigned int j) { return peak.pressure[j]; })},
+      {"cycle_slip_mm",
+       per_vertex([&](const unsigned int j) { return cycle_wear.slip[j]; })}};
+    for (const auto &[name, values] : cycle_wear.fields)
+      fields.emplace_back(name,
+                          per_vertex(
+                            [&, &values = values](const unsigned int j) {
+                              return values[j];
+                            }));
+    Output::write_worn_tibia(model.geometry(),
+                             fields,
+                             *worn_series,
+                             state.block,
+                             state.cycles);
+  }
 
-    const bool done = state.cycles >= parameters.wear.cycles;
-    if (output.checkpoint_interval > 0 &&
-        (state.block % output.checkpoint_interval == 0 || done))
-      {
-        TimerOutput::Scope scope(model.timer(), "checkpoint");
-        state.displacement = model.geometry().vertex_displacements();
-        state.stiffness_displacement =
-          model.geometry().vertex_displacements(true);
-        state.depth       = depth;
-        state.step_starts = cycle.get_step_starts();
-        Output::write_checkpoint(output.directory, state, model.world());
-        model.pcout() << "  checkpoint written after block " << state.block
-                      << std::endl;
-      }
+  void
+  WearProblem::write_checkpoint_if_due()
+  {
+    const auto &output = model.parameters().output;
+    const bool  done   = state.cycles >= model.parameters().wear.cycles;
+    if (output.checkpoint_interval == 0 ||
+        (state.block % output.checkpoint_interval != 0 && !done))
+      return;
+    TimerOutput::Scope scope(model.timer(), "checkpoint");
+    state.displacement           = model.geometry().vertex_displacements();
+    state.stiffness_displacement = model.geometry().vertex_displacements(true);
+    state.depth                  = model.geometry().wear_depth();
+    state.step_starts            = cycle.get_step_starts();
+    Output::write_checkpoint(output.directory,
+                             state,
+                             model.parameters(),
+                             model.world());
+    model.pcout() << "  checkpoint written after block " << state.block
+                  << std::endl;
   }
 
   void
@@ -309,11 +346,12 @@ namespace TKR::Problems
     const auto &output     = parameters.output;
     Output::write_steps_csv(output.directory,
                             cycle.get_reports(),
+                            cycle.get_protocol(),
                             model.world());
     if (output.vtu_interval > 0)
-      cycle.output_steps();
+      cycle.output_steps(cycle_wear);
     Output::write_wear_map(output.directory,
-                           cycle.get_coupling().slave_surface(),
+                           model.geometry().worn_surface(),
                            model.geometry(),
                            model.world());
 

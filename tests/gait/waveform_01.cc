@@ -2,24 +2,36 @@
 // This file is part of tkr-wear.
 //
 // Waveform: values at the table rows, linear interpolation between them,
-// periodic wrap-around between the last row and 100 %, messages for bad
-// tables; and the shipped reconstruction data/iso14243-1.csv stays within
+// periodic wrap-around between the last row and 100 %, columns found by
+// their names (any order, extra columns ignored), messages for bad tables
+// (a missing column, no header, a table that stops before the end of the
+// cycle); and the shipped reconstruction data/iso14243-1.csv stays within
 // the published values (first 14 % exact) and ranges.
 
 #include <tkr/base/exceptions.h>
 #include <tkr/gait/waveform.h>
 
+#include <cmath>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include "../tests.h"
 
 namespace
 {
+  const std::vector<std::string> channels = {"flexion_deg",
+                                             "axial_force_N",
+                                             "ap_force_N",
+                                             "ie_torque_Nm"};
+  const std::string header = "percent_cycle,flexion_deg,axial_force_N,"
+                             "ap_force_N,ie_torque_Nm\n";
+
   void
-  print(const TKR::Gait::GaitState &s)
+  print(const double percent, const std::vector<double> &v)
   {
-    deallog << s.percent << " %: " << s.flexion << ' ' << s.axial_force << ' '
-            << s.ap_force << ' ' << s.ie_torque << std::endl;
+    deallog << percent << " %: " << v[0] << ' ' << v[1] << ' ' << v[2] << ' '
+            << v[3] << std::endl;
   }
 
   void
@@ -31,7 +43,7 @@ namespace
     }
     try
       {
-        TKR::Gait::Waveform waveform(name);
+        TKR::Gait::Waveform waveform(name, channels);
         deallog << name << ": read (unexpected)" << std::endl;
       }
     catch (const TKR::ExcInputError &exc)
@@ -51,19 +63,46 @@ main()
            "ie_torque_Nm\n0,0,100,10,1\n25,20,1100,-10,2\n50,40,600,0,0\n"
            "100,0,100,10,1\n";
   }
-  const TKR::Gait::Waveform small("small.csv");
+  const TKR::Gait::Waveform small("small.csv", channels);
   deallog << "rows: " << small.n_rows() << std::endl;
   for (const double p :
        {0., 25., 50., 12.5, 37.5, 75., 99., 100., 112.5, -12.5})
-    print(small.at(p));
+    print(p - 100. * std::floor(p / 100.), small.at(p));
 
-  expect_error("decreasing.csv", "0,0,0,0,0\n30,1,1,1,1\n20,1,1,1,1\n");
-  expect_error("columns.csv", "0,0,0,0,0\n30,1,1,1\n");
-  expect_error("start.csv", "5,0,0,0,0\n30,1,1,1,1\n");
-  expect_error("periodic.csv", "0,0,0,0,0\n30,1,1,1,1\n100,2,0,0,0\n");
+  // The same table with its columns in another order and one more column.
+  {
+    std::ofstream out("shuffled.csv");
+    out << "ie_torque_Nm,percent_cycle,temperature_C,axial_force_N,"
+           "flexion_deg,ap_force_N\n1,0,37,100,0,10\n2,25,37,1100,20,-10\n"
+           "0,50,37,600,40,0\n1,100,37,100,0,10\n";
+  }
+  const TKR::Gait::Waveform shuffled("shuffled.csv", channels);
+  bool                      same = true;
+  for (const double p : {0., 12.5, 37.5, 75., 99.})
+    same = same && shuffled.at(p) == small.at(p);
+  deallog << "columns by name, any order, extra ones ignored: " << yes_no(same)
+          << std::endl;
+
+  expect_error("decreasing.csv",
+               header + "0,0,0,0,0\n30,1,1,1,1\n20,1,1,1,1\n");
+  expect_error("columns.csv", header + "0,0,0,0,0\n30,1,1,1\n");
+  expect_error("start.csv", header + "5,0,0,0,0\n30,1,1,1,1\n");
+  expect_error("periodic.csv", header + "0,0,0,0,0\n30,1,1,1,1\n100,2,0,0,0\n");
+  expect_error("missing.csv",
+               "percent_cycle,flexion_deg,axial_force_N,ap_force_N\n"
+               "0,0,0,0\n50,1,1,1\n100,0,0,0\n");
+  expect_error("no_header.csv", "0,0,0,0,0\n50,1,1,1,1\n100,0,0,0,0\n");
+  // Rows every 1 % up to 50 %: half of the cycle is missing.
+  {
+    std::string half = header;
+    for (unsigned int p = 0; p <= 50; ++p)
+      half += std::to_string(p) + ",1,100,0,0\n";
+    expect_error("half.csv", half);
+  }
 
   const TKR::Gait::Waveform iso(std::string(SOURCE_DIR) +
-                                "/../../data/iso14243-1.csv");
+                                  "/../../data/iso14243-1.csv",
+                                channels);
   const double              published[15][2] = {{0, 167.6},
                                                 {0.17, 597.5},
                                                 {0.69, 1457.4},
@@ -81,13 +120,12 @@ main()
                                                 {15.83, 2570}};
   bool                      first_14         = true;
   for (unsigned int p = 0; p < 15; ++p)
-    first_14 = first_14 && iso.at(p).flexion == published[p][0] &&
-               iso.at(p).axial_force == published[p][1];
+    first_14 = first_14 && iso.at(p)[0] == published[p][0] &&
+               iso.at(p)[1] == published[p][1];
   double min[4] = {1e9, 1e9, 1e9, 1e9}, max[4] = {-1e9, -1e9, -1e9, -1e9};
   for (unsigned int p = 0; p < 100; ++p)
     {
-      const auto   s    = iso.at(p);
-      const double v[4] = {s.flexion, s.axial_force, s.ap_force, s.ie_torque};
+      const auto v = iso.at(p);
       for (unsigned int c = 0; c < 4; ++c)
         {
           min[c] = std::min(min[c], v[c]);

@@ -1,61 +1,525 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // This file is part of tkr-wear.
 //
-// The default parameter file written by print_default_parameters() reads
-// back with the documented defaults; a file that changes some entries is
-// read correctly; Lame constants follow from E and nu.
+// Every entry of the parameter file reaches its field of AllParameters:
+// - a table names, for each of the entries, the field it sets and a valid
+//   value other than the default; the table must list exactly the entries
+//   that --print-parameters writes (a new entry without a row fails);
+// - the default file written by print_default_parameters() reads back
+//   with every field at its documented default;
+// - a file that sets every entry to its other value reads back with every
+//   field changed to it;
+// - relative paths in an included file are taken from that file's
+//   directory, and an error in an included file names that file and line;
+// - Lame constants follow from E and nu.
 
+#include <tkr/base/exceptions.h>
 #include <tkr/parameters/parameters.h>
 
+#include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <functional>
+#include <iomanip>
+#include <map>
+#include <sstream>
 
 #include "../tests.h"
 
 namespace
 {
-  void
-  print(const TKR::Parameters::AllParameters &p)
+  using P = TKR::Parameters::AllParameters;
+
+  /** A value as the tests compare it: numbers normalised, else the text. */
+  std::string
+  norm(const std::string &value)
   {
-    deallog << "Problem: " << TKR::Parameters::to_string(p.problem)
-            << std::endl;
-    deallog << "Mesh: " << p.mesh.file << " degree " << p.mesh.fe_degree
-            << " groups " << p.mesh.femur_name << ' ' << p.mesh.tibia_name
-            << ' ' << p.mesh.femur_contact_name << ' '
-            << p.mesh.femur_fixation_name << ' ' << p.mesh.tibia_contact_name
-            << ' ' << p.mesh.tibia_inferior_name << std::endl;
-    for (const auto *m : {&p.materials.femur, &p.materials.tibia})
-      deallog << "Material: E " << m->youngs_modulus << " nu "
-              << m->poissons_ratio << " density " << m->density << " lambda "
-              << m->lambda() << " mu " << m->mu() << std::endl;
-    deallog << "Elasticity: " << p.elasticity.femur_contact_traction << " | "
-            << p.elasticity.tibia_contact_traction << std::endl;
-    deallog << "Static contact: " << p.static_contact.femur_displacement
-            << " loaded "
-            << (p.static_contact.tibia_inferior ==
-                TKR::Parameters::TibiaSupport::loaded)
-            << " force " << p.static_contact.axial_force << std::endl;
-    deallog << "Gait: " << p.gait.waveform_file << " steps "
-            << p.gait.steps_per_cycle << " axis " << p.gait.flexion_axis_point
-            << " medial " << p.gait.medial_direction << " offset "
-            << p.gait.axial_load_offset << " springs "
-            << p.gait.ap_spring_stiffness << ' ' << p.gait.ie_spring_stiffness
-            << " signs " << p.gait.ap_force_sign << ' ' << p.gait.ie_torque_sign
-            << std::endl;
-    deallog << "Wear: k " << p.wear.wear_coefficient << " cycles "
-            << p.wear.cycles << " n_Delta "
-            << p.wear.cycles_per_extrapolation_step << " threshold "
-            << p.wear.wear_area_threshold << std::endl;
-    deallog << "Contact solver: ipopt "
-            << (p.contact_solver.algorithm ==
-                TKR::Parameters::ContactAlgorithm::ipopt)
-            << " tolerance " << p.contact_solver.tolerance << " max "
-            << p.contact_solver.max_iterations << std::endl;
-    deallog << "Linear solver: " << p.linear_solver.tolerance << ' '
-            << p.linear_solver.max_iterations << ' '
-            << p.linear_solver.rigid_body_modes << std::endl;
-    deallog << "Output: " << p.output.directory << ' ' << p.output.vtu_interval
-            << ' ' << p.output.checkpoint_interval << ' ' << p.output.testing
-            << std::endl;
+    std::istringstream  in(value);
+    std::ostringstream  out;
+    std::string         item;
+    bool                numbers = true;
+    std::vector<double> values;
+    while (std::getline(in, item, ','))
+      {
+        try
+          {
+            std::size_t end;
+            values.push_back(std::stod(item, &end));
+            numbers =
+              numbers && dealii::Utilities::trim(item.substr(end)).empty();
+          }
+        catch (...)
+          {
+            numbers = false;
+          }
+      }
+    if (!numbers || values.empty())
+      return value;
+    for (unsigned int i = 0; i < values.size(); ++i)
+      out << (i ? ", " : "") << std::setprecision(12) << values[i];
+    return out.str();
+  }
+
+  std::string
+  num(const double x)
+  {
+    std::ostringstream out;
+    out << std::setprecision(17) << x;
+    return norm(out.str());
+  }
+
+  std::string
+  vec(const dealii::Tensor<1, 3> &t)
+  {
+    return num(t[0]) + ", " + num(t[1]) + ", " + num(t[2]);
+  }
+
+  std::string
+  yes(const bool b)
+  {
+    return b ? "true" : "false";
+  }
+
+  std::string
+  file_name(const std::string &path)
+  {
+    return std::filesystem::path(path).filename().string();
+  }
+
+  struct Row
+  {
+    std::string                           entry;
+    std::string                           other;
+    std::function<std::string(const P &)> field;
+    bool                                  is_path = false;
+  };
+
+  std::vector<Row>
+  table(const std::string &source)
+  {
+    using namespace TKR::Parameters;
+    const auto algorithm = [](const P &p) {
+      switch (p.contact_solver.algorithm)
+        {
+          case ContactAlgorithm::automatic:
+            return std::string("auto");
+          case ContactAlgorithm::active_set:
+            return std::string("active set");
+          case ContactAlgorithm::condensed_active_set:
+            return std::string("condensed active set");
+          case ContactAlgorithm::ipopt:
+            return std::string("ipopt");
+        }
+      return std::string();
+    };
+    const auto analytic = [](const P &p) {
+      return p.verification.analytic_solution == AnalyticSolution::none ?
+               std::string("none") :
+             p.verification.analytic_solution ==
+                 AnalyticSolution::hertz_sphere ?
+               std::string("hertz sphere") :
+               std::string("hertz cylinder");
+    };
+    const auto material = [](const P &p, const bool femur) -> const Material & {
+      return femur ? p.materials.femur : p.materials.tibia;
+    };
+    std::vector<Row> rows = {{"Problem",
+                              "contact",
+                              [](const P &p) { return to_string(p.problem); }},
+                             {"Contact solver/Coupling window",
+                              "0.1",
+                              [](const P &p) {
+                                return num(p.contact_solver.coupling_window);
+                              }},
+                             {"Contact solver/Initial contact distance",
+                              "0.02",
+                              [](const P &p) {
+                                return num(
+                                  p.contact_solver.initial_contact_distance);
+                              }},
+                             {"Contact solver/Max iterations",
+                              "60",
+                              [](const P &p) {
+                                return num(p.contact_solver.max_iterations);
+                              }},
+                             {"Contact solver/Overlap tolerance",
+                              "0.04",
+                              [](const P &p) {
+                                return num(p.contact_solver.overlap_tolerance);
+                              }},
+                             {"Contact solver/Search distance",
+                              "3",
+                              [](const P &p) {
+                                return num(p.contact_solver.search_distance);
+                              }},
+                             {"Contact solver/Solver", "ipopt", algorithm},
+                             {"Contact solver/Tolerance",
+                              "1e-9",
+                              [](const P &p) {
+                                return num(p.contact_solver.tolerance);
+                              }},
+                             {"Elasticity/Femur contact traction",
+                              "1, 2, 3",
+                              [](const P &p) {
+                                return vec(p.elasticity.femur_contact_traction);
+                              }},
+                             {"Elasticity/Tibia contact traction",
+                              "-1, -2, -3",
+                              [](const P &p) {
+                                return vec(p.elasticity.tibia_contact_traction);
+                              }},
+                             {"Gait/AP force sign",
+                              "-1",
+                              [](const P &p) {
+                                return num(p.gait.ap_force_sign);
+                              }},
+                             {"Gait/AP spring range",
+                              "3",
+                              [](const P &p) {
+                                return num(p.gait.ap_spring_range);
+                              }},
+                             {"Gait/AP spring stiffness",
+                              "10",
+                              [](const P &p) {
+                                return num(p.gait.ap_spring_stiffness);
+                              }},
+                             {"Gait/AP spring stiffness beyond range",
+                              "50",
+                              [](const P &p) {
+                                return num(p.gait.ap_spring_stiffness_beyond);
+                              }},
+                             {"Gait/Axial load offset",
+                              "0.05",
+                              [](const P &p) {
+                                return num(p.gait.axial_load_offset);
+                              }},
+                             {"Gait/Axial stabilisation spring",
+                              "120",
+                              [](const P &p) {
+                                return num(p.gait.axial_stabilisation_spring);
+                              }},
+                             {"Gait/Control",
+                              "force",
+                              [](const P &p) {
+                                return p.gait.control == GaitControl::force ?
+                                         std::string("force") :
+                                         std::string("?");
+                              }},
+                             {"Gait/Flexion axis point",
+                              "1, -3, 50",
+                              [](const P &p) {
+                                return vec(p.gait.flexion_axis_point);
+                              }},
+                             {"Gait/IE spring range",
+                              "5",
+                              [](const P &p) {
+                                return num(p.gait.ie_spring_range);
+                              }},
+                             {"Gait/IE spring stiffness",
+                              "140",
+                              [](const P &p) {
+                                return num(p.gait.ie_spring_stiffness);
+                              }},
+                             {"Gait/IE spring stiffness beyond range",
+                              "400",
+                              [](const P &p) {
+                                return num(p.gait.ie_spring_stiffness_beyond);
+                              }},
+                             {"Gait/IE torque sign",
+                              "-1",
+                              [](const P &p) {
+                                return num(p.gait.ie_torque_sign);
+                              }},
+                             {"Gait/ML spring stiffness",
+                              "5",
+                              [](const P &p) {
+                                return num(p.gait.ml_spring_stiffness);
+                              }},
+                             {"Gait/Medial side",
+                              "-x",
+                              [](const P &p) {
+                                return p.gait.medial_direction > 0 ?
+                                         std::string("+x") :
+                                         std::string("-x");
+                              }},
+                             {"Gait/Pose tolerance",
+                              "0.002",
+                              [](const P &p) {
+                                return num(p.gait.pose_tolerance);
+                              }},
+                             {"Gait/Step groups",
+                              "2",
+                              [](const P &p) {
+                                return num(p.gait.step_groups);
+                              }},
+                             {"Gait/Steps per cycle",
+                              "50",
+                              [](const P &p) {
+                                return num(p.gait.steps_per_cycle);
+                              }},
+                             {"Gait/Tibial tray",
+                              "free",
+                              [](const P &p) {
+                                return p.gait.rigid_tray ?
+                                         std::string("rigid") :
+                                         std::string("free");
+                              }},
+                             {"Gait/Tray flatness tolerance",
+                              "2e-3",
+                              [](const P &p) {
+                                return num(p.gait.tray_flatness_tolerance);
+                              }},
+                             {"Gait/Waveform file",
+                              source + "/data/measured/../iso14243-1.csv",
+                              [](const P &p) {
+                                return file_name(p.gait.waveform_file);
+                              },
+                              true},
+                             {"Linear solver/AMG aggregation threshold",
+                              "0.03",
+                              [](const P &p) {
+                                return num(
+                                  p.linear_solver.aggregation_threshold);
+                              }},
+                             {"Linear solver/AMG smoother sweeps",
+                              "3",
+                              [](const P &p) {
+                                return num(p.linear_solver.smoother_sweeps);
+                              }},
+                             {"Linear solver/Max iterations",
+                              "1000",
+                              [](const P &p) {
+                                return num(p.linear_solver.max_iterations);
+                              }},
+                             {"Linear solver/Newton step tolerance",
+                              "1e-7",
+                              [](const P &p) {
+                                return num(
+                                  p.linear_solver.newton_step_tolerance);
+                              }},
+                             {"Linear solver/Rigid body modes",
+                              "false",
+                              [](const P &p) {
+                                return yes(p.linear_solver.rigid_body_modes);
+                              }},
+                             {"Linear solver/Tolerance",
+                              "1e-11",
+                              [](const P &p) {
+                                return num(p.linear_solver.tolerance);
+                              }},
+                             {"Mesh/Femur contact group",
+                              "fc",
+                              [](const P &p) {
+                                return p.mesh.femur_contact_name;
+                              }},
+                             {"Mesh/Femur fixation group",
+                              "ff",
+                              [](const P &p) {
+                                return p.mesh.femur_fixation_name;
+                              }},
+                             {"Mesh/Femur group",
+                              "f",
+                              [](const P &p) { return p.mesh.femur_name; }},
+                             {"Mesh/File",
+                              source + "/meshes/tkr/tkr-b-coarse.msh",
+                              [](const P &p) { return file_name(p.mesh.file); },
+                              true},
+                             {"Mesh/Finite element degree",
+                              "2",
+                              [](const P &p) { return num(p.mesh.fe_degree); }},
+                             {"Mesh/Tibia contact group",
+                              "tc",
+                              [](const P &p) {
+                                return p.mesh.tibia_contact_name;
+                              }},
+                             {"Mesh/Tibia group",
+                              "t",
+                              [](const P &p) { return p.mesh.tibia_name; }},
+                             {"Mesh/Tibia inferior group",
+                              "ti",
+                              [](const P &p) {
+                                return p.mesh.tibia_inferior_name;
+                              }},
+                             {"Output/Checkpoint interval",
+                              "5",
+                              [](const P &p) {
+                                return num(p.output.checkpoint_interval);
+                              }},
+                             {"Output/Directory",
+                              "results2",
+                              [](const P &p) { return p.output.directory; }},
+                             {"Output/Measured mass loss file",
+                              source + "/data/measured/example-gravimetric.csv",
+                              [](const P &p) {
+                                return file_name(
+                                  p.output.measured_mass_loss_file);
+                              },
+                              true},
+                             {"Output/Plots",
+                              "false",
+                              [](const P &p) { return yes(p.output.plots); }},
+                             {"Output/Testing",
+                              "true",
+                              [](const P &p) { return yes(p.output.testing); }},
+                             {"Output/VTU interval",
+                              "3",
+                              [](const P &p) {
+                                return num(p.output.vtu_interval);
+                              }},
+                             {"Static contact/Axial force",
+                              "900",
+                              [](const P &p) {
+                                return num(p.static_contact.axial_force);
+                              }},
+                             {"Static contact/Femur displacement",
+                              "0.1, 0.2, -0.3",
+                              [](const P &p) {
+                                return vec(p.static_contact.femur_displacement);
+                              }},
+                             {"Static contact/Roller faces",
+                              "y",
+                              [](const P &p) {
+                                const int a = p.static_contact.roller_axis;
+                                return a < 0 ? std::string("none") :
+                                               std::string(1, char('x' + a));
+                              }},
+                             {"Static contact/Tibia inferior",
+                              "loaded",
+                              [](const P &p) {
+                                return p.static_contact.tibia_inferior ==
+                                           TibiaSupport::loaded ?
+                                         std::string("loaded") :
+                                         std::string("clamped");
+                              }},
+                             {"Static contact/Tibia tangential spring",
+                              "50",
+                              [](const P &p) {
+                                return num(p.static_contact.tangential_spring);
+                              }},
+                             {"Verification/Analytic solution",
+                              "hertz cylinder",
+                              analytic},
+                             {"Verification/Cross-check with Ipopt",
+                              "true",
+                              [](const P &p) {
+                                return yes(
+                                  p.verification.cross_check_with_ipopt);
+                              }},
+                             {"Verification/Cylinder length",
+                              "12",
+                              [](const P &p) {
+                                return num(p.verification.cylinder_length);
+                              }},
+                             {"Verification/Radius",
+                              "25",
+                              [](const P
+                                   &p) { return num(p.verification.radius); }},
+                             {"Wear/Cycles",
+                              "1e6",
+                              [](const P &p) { return num(p.wear.cycles); }},
+                             {"Wear/Cycles per extrapolation step",
+                              "1e4",
+                              [](const P &p) {
+                                return num(
+                                  p.wear.cycles_per_extrapolation_step);
+                              }},
+                             {"Wear/Distortion limit",
+                              "0.3",
+                              [](const P &
+                                   p) { return num(p.wear.distortion_limit); }},
+                             {"Wear/Halve step on distortion",
+                              "true",
+                              [](const P &p) {
+                                return yes(p.wear.halve_step_on_distortion);
+                              }},
+                             {"Wear/Stiffness update interval",
+                              "5",
+                              [](const P &p) {
+                                return num(p.wear.stiffness_update_interval);
+                              }},
+                             {"Wear/Warm start",
+                              "false",
+                              [](
+                                const P &p) { return yes(p.wear.warm_start); }},
+                             {"Wear/Wear area threshold",
+                              "2e-4",
+                              [](const P &p) {
+                                return num(p.wear.wear_area_threshold);
+                              }},
+                             {"Wear/Wear coefficient",
+                              "3e-7",
+                              [](const P &
+                                   p) { return num(p.wear.wear_coefficient); }},
+                             {"Wear/Wear law", "archard", [](const P &p) {
+                                return p.wear.law == WearLawType::archard ?
+                                         std::string("archard") :
+                                         std::string("?");
+                              }}};
+    for (const bool femur : {true, false})
+      {
+        const std::string m = femur ? "Materials/Femur/" : "Materials/Tibia/";
+        rows.push_back({m + "Density", femur ? "8" : "0.94", [=](const P &p) {
+                          return num(material(p, femur).density);
+                        }});
+        rows.push_back(
+          {m + "Poisson's ratio", femur ? "0.3" : "0.4", [=](const P &p) {
+             return num(material(p, femur).poissons_ratio);
+           }});
+        rows.push_back(
+          {m + "Young's modulus", femur ? "210000" : "1000", [=](const P &p) {
+             return num(material(p, femur).youngs_modulus);
+           }});
+      }
+    return rows;
+  }
+
+  /** The entries of a parameter file written by print_parameters. */
+  std::map<std::string, std::string>
+  entries_of(const std::string &text)
+  {
+    std::map<std::string, std::string> entries;
+    std::istringstream                 in(text);
+    std::vector<std::string>           path;
+    std::string                        line;
+    while (std::getline(in, line))
+      {
+        const std::string c = dealii::Utilities::trim(line);
+        if (c.rfind("subsection ", 0) == 0)
+          path.push_back(dealii::Utilities::trim(c.substr(11)));
+        else if (c == "end")
+          path.pop_back();
+        else if (c.rfind("set ", 0) == 0)
+          {
+            std::string entry;
+            for (const auto &p : path)
+              entry += p + '/';
+            const auto eq = c.find('=');
+            entry += dealii::Utilities::trim(c.substr(4, eq - 4));
+            entries[entry] = dealii::Utilities::trim(c.substr(eq + 1));
+          }
+      }
+    return entries;
+  }
+
+  /** A file that sets @p values (entry -> value), one subsection each. */
+  std::string
+  file_setting(const std::map<std::string, std::string> &values)
+  {
+    std::string text;
+    for (const auto &[entry, value] : values)
+      {
+        std::vector<std::string> parts;
+        std::istringstream       in(entry);
+        std::string              part;
+        while (std::getline(in, part, '/'))
+          parts.push_back(part);
+        for (unsigned int i = 0; i + 1 < parts.size(); ++i)
+          text += "subsection " + parts[i] + "\n";
+        text += "set " + parts.back() + " = " + value + "\n";
+        for (unsigned int i = 0; i + 1 < parts.size(); ++i)
+          text += "end\n";
+      }
+    return text;
   }
 } // namespace
 
@@ -63,27 +527,115 @@ int
 main()
 {
   initlog();
+  const std::string  source = std::string(SOURCE_DIR) + "/../..";
+  std::ostringstream defaults_text;
+  TKR::Parameters::print_default_parameters(defaults_text);
+  const auto defaults = entries_of(defaults_text.str());
+  const auto rows     = table(source);
+
+  // The table lists exactly the declared entries.
+  std::map<std::string, std::string> others;
+  for (const auto &row : rows)
+    others[row.entry] = row.other;
+  unsigned int n_missing = 0, n_unknown = 0;
+  for (const auto &[entry, value] : defaults)
+    if (!others.count(entry))
+      {
+        deallog << "no table row for the entry " << entry << std::endl;
+        ++n_missing;
+      }
+  for (const auto &[entry, value] : others)
+    if (!defaults.count(entry))
+      {
+        deallog << "table row for an unknown entry " << entry << std::endl;
+        ++n_unknown;
+      }
+  // Entries whose other value is their default (a selection of one).
+  for (const auto &row : rows)
+    if (norm(row.other) == norm(defaults.at(row.entry)))
+      deallog << "only one value possible: " << row.entry << std::endl;
+  deallog << "declared entries: " << defaults.size()
+          << ", table rows: " << rows.size() << ", missing " << n_missing
+          << ", unknown " << n_unknown << std::endl;
+
+  // Defaults, then every entry changed.
   {
     std::ofstream out("defaults.prm");
-    TKR::Parameters::print_default_parameters(out);
+    out << defaults_text.str();
   }
-  deallog.push("defaults");
-  print(TKR::Parameters::read_parameters("defaults.prm"));
-  deallog.pop();
-
   {
     std::ofstream out("changed.prm");
-    out << "set Problem = contact\n"
-        << "subsection Materials\n  subsection Tibia\n"
-        << "    set Young's modulus = 1000\n    set Poisson's ratio = 0.25\n"
-        << "  end\nend\n"
-        << "subsection Static contact\n  set Tibia inferior = loaded\n"
-        << "  set Femur displacement = 0.5, -1, 2e-3\nend\n"
-        << "subsection Contact solver\n  set Solver = ipopt\nend\n"
-        << "subsection Gait\n  set Medial side = -x\n  set AP force sign = -1\n"
-        << "end\n";
+    out << file_setting(others);
   }
-  deallog.push("changed");
-  print(TKR::Parameters::read_parameters("changed.prm"));
-  deallog.pop();
+  for (const std::string name : {"defaults", "changed"})
+    {
+      const P      p      = TKR::Parameters::read_parameters(name + ".prm");
+      unsigned int n_read = 0, n_differ = 0;
+      for (const auto &row : rows)
+        {
+          const std::string expected =
+            name == "defaults" ? defaults.at(row.entry) : row.other;
+          const std::string want =
+            row.is_path ? file_name(expected) : norm(expected);
+          const std::string got = row.field(p);
+          if (got == want)
+            ++n_read;
+          else
+            {
+              ++n_differ;
+              deallog << name << ": " << row.entry << " = " << expected
+                      << " read as " << got << std::endl;
+            }
+        }
+      deallog << name << ": " << n_read << " entries read back, " << n_differ
+              << " differ" << std::endl;
+      if (name == "changed")
+        {
+          const auto &m = p.materials.tibia;
+          deallog << "tibia lambda " << m.lambda() << " mu " << m.mu()
+                  << " (E nu / ((1 + nu)(1 - 2 nu)) = "
+                  << 1000. * 0.4 / (1.4 * 0.2)
+                  << ", E / (2 (1 + nu)) = " << 1000. / 2.8 << ")" << std::endl;
+        }
+    }
+
+  // Includes and relative paths: sub/base.prm names a mesh relative to
+  // its own directory (sub/mesh.msh, a copy), top.prm in another
+  // directory includes it.
+  std::filesystem::create_directories("sub");
+  std::filesystem::copy_file(source + "/meshes/verification/patch-coarse.msh",
+                             "sub/mesh.msh",
+                             std::filesystem::copy_options::overwrite_existing);
+  {
+    std::ofstream out("sub/base.prm");
+    out << "subsection Mesh\n  set File = mesh.msh\nend\n";
+  }
+  {
+    std::ofstream out("top.prm");
+    out << "set Problem = contact\ninclude sub/base.prm\n";
+  }
+  const P included = TKR::Parameters::read_parameters("top.prm");
+  deallog << "included file's relative mesh path: " << included.mesh.file
+          << " exists " << yes_no(std::filesystem::exists(included.mesh.file))
+          << std::endl;
+  {
+    std::ofstream out("sub/bad.prm");
+    out
+      << "# a comment\nsubsection Mesh\n  set Finite element degree = 7\nend\n";
+  }
+  {
+    std::ofstream out("top_bad.prm");
+    out << "set Problem = contact\n\ninclude sub/bad.prm\n";
+  }
+  try
+    {
+      TKR::Parameters::read_parameters("top_bad.prm");
+      deallog << "top_bad.prm: read (unexpected)" << std::endl;
+    }
+  catch (const TKR::ExcInputError &exc)
+    {
+      const std::string message = TKR::exception_message(exc);
+      deallog << "error in an included file: "
+              << message.substr(0, message.find(':')) << std::endl;
+    }
 }

@@ -8,7 +8,7 @@
 // 1e-8), the depth k p 2 s at every node.
 
 #include <tkr/problems/contact_problem.h>
-#include <tkr/wear/archard.h>
+#include <tkr/wear/wear_law.h>
 
 #include <fstream>
 
@@ -36,23 +36,24 @@ main(int argc, char **argv)
   const bool               converged = problem.run();
   std::cout.rdbuf(screen);
 
-  const double      k = 2e-7 * 1e-3; // mm^3/(N mm)
-  const double      s = 0.8;         // mm
-  Gait::RigidMotion at_rest, slid;
-  slid.translation[1]                       = s;
+  const double         k = 2e-7 * 1e-3; // mm^3/(N mm)
+  const double         s = 0.8;         // mm
+  Gait::RelativeMotion at_rest, slid;
+  slid.femur.translation[1]                 = s;
   const std::vector<Wear::StepRecord> steps = {
     Wear::make_step_record(problem.get_coupling(),
                            problem.get_state(),
-                           at_rest,
-                           Tensor<1, 3>()),
-    Wear::make_step_record(problem.get_coupling(),
-                           problem.get_state(),
-                           slid,
-                           Tensor<1, 3>())};
-  std::vector<double> slip;
-  const auto          depth  = Wear::cycle_wear_depth(steps, k, &slip);
-  const double        volume = Wear::worn_volume(depth, problem.get_coupling());
-  const double        exact  = k * 1200. * 2. * s;
+                           at_rest),
+    Wear::make_step_record(problem.get_coupling(), problem.get_state(), slid)};
+  const auto          law   = Wear::create_wear_law(parameters.wear);
+  const auto          wear  = law->cycle_wear(Wear::CycleSliding(steps));
+  const auto         &depth = wear.depth;
+  const auto         &slip  = wear.slip;
+  std::vector<double> area;
+  for (const auto &node : problem.get_coupling().slave_nodes())
+    area.push_back(node.D);
+  const double volume = Wear::measure_wear(depth, area, 0.).volume;
+  const double exact  = k * 1200. * 2. * s;
 
   double max_depth_error = 0;
   for (unsigned int j = 0; j < depth.size(); ++j)

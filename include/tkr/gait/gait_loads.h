@@ -11,11 +11,25 @@
 
 #include <tkr/elasticity/linear_elasticity.h>
 #include <tkr/gait/rigid_motion.h>
-#include <tkr/gait/waveform.h>
 #include <tkr/parameters/parameters.h>
 
 namespace TKR::Gait
 {
+  /** The load-controlled simulator inputs at one instant of the cycle. */
+  struct GaitState
+  {
+    /** Percent of the cycle, [0, 100). */
+    double percent = 0;
+    /** Flexion angle in degrees. */
+    double flexion = 0;
+    /** Axial force in N (compressive, pushes the tibia onto the femur). */
+    double axial_force = 0;
+    /** AP force in N, as tabulated (sign conventions applied later). */
+    double ap_force = 0;
+    /** IE torque in N m, as tabulated. */
+    double ie_torque = 0;
+  };
+
   /**
    * Area moments of the tibial inferior surface about its centroid (in the
    * x-y plane), for distributing forces, torques and springs over it, and

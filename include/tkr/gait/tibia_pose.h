@@ -124,15 +124,10 @@ namespace TKR::Gait
     /**
      * The inferior motion as four linear functionals of the displacement
      * (tractions on `tibia_inferior` whose work is the mean displacement
-     * in x, y, z and the best-fitting rotation about z in degrees): give
-     * them to ContactSolver::add_observation() in this order.
+     * in x, y, z and the best-fitting rotation about z in degrees).
      */
     std::array<Elasticity::BoundaryLoads, 4>
     motion_functionals() const;
-
-    /** The inferior motion from the values of the motion_functionals(). */
-    static InferiorMotion
-    motion_from(const std::array<double, 4> &functionals);
 
     /**
      * The pose iteration of one step, from @p pose (updated). @p solve

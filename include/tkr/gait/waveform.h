@@ -9,48 +9,71 @@
 
 namespace TKR::Gait
 {
-  /** The load-controlled simulator inputs at one instant of the cycle. */
-  struct GaitState
-  {
-    /** Percent of the cycle, [0, 100). */
-    double percent = 0;
-    /** Flexion angle in degrees. */
-    double flexion = 0;
-    /** Axial force in N (compressive, pushes the tibia onto the femur). */
-    double axial_force = 0;
-    /** AP force in N, as tabulated (sign conventions applied later). */
-    double ap_force = 0;
-    /** IE torque in N m, as tabulated. */
-    double ie_torque = 0;
-  };
-
   /**
-   * The gait waveforms of a CSV table with the columns percent_cycle,
-   * flexion_deg, axial_force_N, ap_force_N, ie_torque_Nm (a header line and
-   * '#' comment lines allowed), interpolated linearly and periodically: the
-   * cycle repeats, so values between the last row and 100 % blend into the
-   * first row. The first row must be at 0 %, percentages must increase and
-   * stay below or at 100 % (a row at 100 % must equal the one at 0 %).
+   * Gait waveforms: a CSV table of channels over the cycle, read by column
+   * name. The first line that is neither empty nor a '#' comment is the
+   * header naming the columns; one of them is `percent_cycle`, the others
+   * are channels (e.g. flexion_deg, axial_force_N). A protocol names the
+   * channels it needs (any order; columns it does not need are ignored, so
+   * a lab can keep its machine's other channels in the file). Rows give
+   * the percent of the cycle, increasing from 0; they must cover the
+   * whole cycle: the last row at 100 % (equal to the row at 0 %: the cycle
+   * is periodic) or closer to 100 % than the table's largest row spacing,
+   * in which case the values between the last row and 100 % blend into the
+   * first row. Values are interpolated linearly and periodically.
    */
   class Waveform
   {
   public:
-    /** Read @p filename; ExcInputError with file and line on bad input. */
-    explicit Waveform(const std::string &filename);
+    /**
+     * Read @p filename and keep the columns @p channels. ExcInputError
+     * with file and line on bad input, naming the missing column or the
+     * range of the cycle that the rows do not cover.
+     */
+    Waveform(const std::string &filename, std::vector<std::string> channels);
 
-    /** The state at @p percent of the cycle (any real; taken modulo 100). */
-    GaitState
+    /**
+     * The values of the channels (in the order of the constructor) at
+     * @p percent of the cycle (any real; taken modulo 100).
+     */
+    std::vector<double>
     at(const double percent) const;
 
-    /** Number of table rows. */
+    /** The channels, as given to the constructor. */
+    const std::vector<std::string> &
+    channels() const
+    {
+      return channel_names;
+    }
+
+    /** Number of table rows (a row at 100 % not counted). */
     unsigned int
     n_rows() const
     {
-      return rows.size();
+      return percents.size();
+    }
+
+    /** The file it was read from. */
+    const std::string &
+    file() const
+    {
+      return filename;
     }
 
   private:
-    std::vector<GaitState> rows;
+    /** The column of each channel in the header @p header (at @p line). */
+    std::vector<unsigned int>
+    find_columns(const std::string &header, const unsigned int line) const;
+
+    /** Refuse a table that does not cover the whole cycle. */
+    void
+    check_coverage() const;
+
+    const std::string              filename;
+    const std::vector<std::string> channel_names;
+    std::vector<double>            percents;
+    /** Per row, the values of the channels. */
+    std::vector<std::vector<double>> rows;
   };
 } // namespace TKR::Gait
 

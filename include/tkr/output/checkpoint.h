@@ -4,10 +4,12 @@
 #ifndef tkr_output_checkpoint_h
 #define tkr_output_checkpoint_h
 
+#include <tkr/parameters/parameters.h>
 #include <tkr/wear/wear_state.h>
 
 #include <mpi.h>
 
+#include <map>
 #include <string>
 
 namespace TKR::Output
@@ -17,28 +19,44 @@ namespace TKR::Output
   checkpoint_file(const std::string &directory);
 
   /**
+   * The entries of @p parameters that determine the state of a wear run,
+   * "Subsection/Entry" -> value: the mesh (its contents' checksum rather
+   * than its path, which may move), its degree and groups, the materials,
+   * the gait protocol with its waveform (checksum) and every Gait entry
+   * but the step groups, and the Wear entries but Cycles (a run may be
+   * resumed to go further) and the distortion handling (which may be
+   * changed to get past a refused block).
+   */
+  std::map<std::string, std::string>
+  state_parameters(const Parameters::AllParameters &parameters);
+
+  /**
    * Write @p state as an HDF5 file (`checkpoint.h5` in @p directory, on
-   * rank 0): attributes for the counters, datasets for the per-vertex
+   * rank 0): attributes for the counters and for the
+   * state_parameters() of @p parameters, datasets for the per-vertex
    * displacements and depth, the steps' warm starts and the history.
    * Written into a temporary file that is renamed when complete, so a
    * crash (or SIGKILL) never leaves a half-written checkpoint, only the
    * previous one.
    */
   void
-  write_checkpoint(const std::string        &directory,
-                   const Wear::WearRunState &state,
-                   const MPI_Comm            mpi_communicator);
+  write_checkpoint(const std::string               &directory,
+                   const Wear::WearRunState        &state,
+                   const Parameters::AllParameters &parameters,
+                   const MPI_Comm                   mpi_communicator);
 
   /**
    * Read the checkpoint of @p directory (on every rank). Throws
-   * ExcInputError naming the file if it does not exist, cannot be read, or
+   * ExcInputError naming the file if it does not exist, cannot be read,
    * does not fit a mesh with @p n_vertices vertices and a gait of
-   * @p n_steps steps.
+   * @p n_steps steps, or was written with other state_parameters() than
+   * those of @p parameters (naming the first entry that differs).
    */
   Wear::WearRunState
-  read_checkpoint(const std::string &directory,
-                  const unsigned int n_vertices,
-                  const unsigned int n_steps);
+  read_checkpoint(const std::string               &directory,
+                  const unsigned int               n_vertices,
+                  const unsigned int               n_steps,
+                  const Parameters::AllParameters &parameters);
 } // namespace TKR::Output
 
 #endif

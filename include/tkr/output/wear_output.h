@@ -8,14 +8,16 @@
 
 #include <tkr/contact/contact_state.h>
 #include <tkr/elasticity/linear_elasticity.h>
+#include <tkr/gait/protocol.h>
 #include <tkr/gait/rigid_motion.h>
+#include <tkr/gait/step_report.h>
 #include <tkr/geometry/worn_geometry.h>
 #include <tkr/mortar/contact_surface.h>
 #include <tkr/output/vtu_output.h>
-#include <tkr/wear/step_record.h>
 #include <tkr/wear/wear_state.h>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 /**
@@ -26,18 +28,23 @@
 namespace TKR::Output
 {
   /**
-   * The screen line of gait step @p step (without the wall time if
-   * @p testing).
+   * The screen line of gait step @p step of the gait @p protocol (without
+   * the wall time if @p testing).
    */
   std::string
   step_line(const unsigned int      step,
-            const Wear::StepReport &report,
+            const Gait::StepReport &report,
+            const Gait::Protocol   &protocol,
             const bool              testing);
 
-  /** `directory/steps.csv`: one row per gait step (written by rank 0). */
+  /**
+   * `directory/steps.csv`: one row per gait step, with the @p protocol's
+   * input and pose columns (written by rank 0).
+   */
   void
   write_steps_csv(const std::string                   &directory,
-                  const std::vector<Wear::StepReport> &reports,
+                  const std::vector<Gait::StepReport> &reports,
+                  const Gait::Protocol                &protocol,
                   const MPI_Comm                       mpi_communicator);
 
   /**

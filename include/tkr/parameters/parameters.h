@@ -8,6 +8,7 @@
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 
+#include <map>
 #include <string>
 
 /**
@@ -135,10 +136,19 @@ namespace TKR::Parameters
     parse_parameters(dealii::ParameterHandler &prm);
   };
 
-  /** `subsection Gait`: the ISO 14243-1 load-controlled gait cycle. */
+  /** The gait protocols (`Gait/Control`, Gait::create_protocol()). */
+  enum class GaitControl
+  {
+    /** ISO 14243-1: forces and torque applied, the tibia's pose solved. */
+    force
+  };
+
+  /** `subsection Gait`: the knee simulator's gait cycle. */
   struct Gait
   {
-    /** CSV file with flexion angle, axial force, AP force, IE torque. */
+    /** The protocol that drives the knee. */
+    GaitControl control;
+    /** CSV file of the protocol's channels over the cycle, by column name. */
     std::string  waveform_file;
     unsigned int steps_per_cycle;
     /** A point on the flexion axis (mm); the axis is parallel to x. */
@@ -181,9 +191,18 @@ namespace TKR::Parameters
     parse_parameters(dealii::ParameterHandler &prm);
   };
 
-  /** `subsection Wear`: Archard wear and its extrapolation. */
+  /** The wear laws (`Wear/Wear law`, Wear::create_wear_law()). */
+  enum class WearLawType
+  {
+    /** Archard's law with a constant wear coefficient. */
+    archard
+  };
+
+  /** `subsection Wear`: the wear law and its extrapolation. */
   struct Wear
   {
+    /** The wear law. */
+    WearLawType law;
     /** Archard wear coefficient k in mm^3/(N m), as in the literature. */
     double wear_coefficient;
     /** Total number of gait cycles. */
@@ -336,6 +355,12 @@ namespace TKR::Parameters
 
     /** The parameter file these values came from ("" for the defaults). */
     std::string parameter_file;
+
+    /**
+     * Every entry as read, "Subsection/Entry" -> value (paths resolved),
+     * e.g. for a checkpoint's record of the run's parameters.
+     */
+    std::map<std::string, std::string> entries;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);

@@ -8,32 +8,34 @@
 
 #include <tkr/base/mpi.h>
 #include <tkr/contact/contact_solver.h>
-#include <tkr/gait/gait_loads.h>
-#include <tkr/gait/tibia_pose.h>
-#include <tkr/gait/waveform.h>
+#include <tkr/gait/protocol.h>
+#include <tkr/gait/step_report.h>
 #include <tkr/mortar/mortar_coupling.h>
 #include <tkr/output/vtu_output.h>
 #include <tkr/problems/two_body_model.h>
 #include <tkr/wear/step_record.h>
+#include <tkr/wear/wear_law.h>
 
 #include <map>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace TKR::Problems
 {
   /**
-   * One ISO 14243-1 gait cycle on the current geometry of a TwoBodyModel
-   * (DESIGN.md sections 2 and 4): every step is a static contact problem.
-   * The femur, clamped on its fixation surface, is rotated rigidly by the
-   * flexion angle (its displacements live in its co-rotated frame, so its
-   * stiffness never changes); the tibia has no displacement condition, is
-   * loaded on its inferior surface by the gait's forces and held by the
-   * restraint springs, and its pose is iterated (Gait::TibiaPose). The
-   * steps are independent: the MPI ranks are split into step groups that
-   * each solve a share of them on their own model, each step from the same
-   * cold start (so the grouping does not change the result); then every
-   * rank gets every step's record (for the wear) and report.
+   * One gait cycle on the current geometry of a TwoBodyModel (DESIGN.md
+   * sections 2 and 4): every step is a static contact problem in the
+   * tibia's frame, the femur placed by the relative rigid motion of the
+   * gait protocol (Gait::Protocol, `Gait/Control`) and both bodies'
+   * displacements in their co-rotated frames, so that the stiffness never
+   * changes within the cycle. The femur is clamped on its fixation
+   * surface; the tibia's support, loads and pose solve are the
+   * protocol's. The steps are independent: the MPI ranks are split into
+   * step groups that each solve a share of them on their own model, each
+   * step from the same start (its end state of the previous cycle, or
+   * rest), so the grouping does not change the result; then every rank
+   * gets every step's record (for the wear) and report.
    */
   class GaitCycle
   {
@@ -41,10 +43,9 @@ namespace TKR::Problems
     GaitCycle(TwoBodyModel &model, const StepGroups &groups);
 
     /**
-     * The waveform, the loads on the measured inferior surface, the
-     * Dirichlet and tray constraints, the contact surfaces and the contact
-     * solver (set up by setup_solver()). Call after
-     * TwoBodyModel::distribute_dofs().
+     * The protocol (with its waveform), the Dirichlet and support
+     * constraints, the contact surfaces and the contact solver (set up by
+     * setup_solver()). Call after TwoBodyModel::distribute_dofs().
      */
     void
     setup();
@@ -52,7 +53,7 @@ namespace TKR::Problems
     /**
      * Set the contact solver up for the stiffness geometry of the model
      * (the condensed solver assembles and factorises the stiffness there)
-     * and register the tibia's motion functionals. Again after every
+     * and register the protocol's observations. Again after every
      * WornGeometry::update_stiffness_geometry().
      */
     void
@@ -72,7 +73,7 @@ namespace TKR::Problems
     solve(const bool print_steps, const bool keep_for_output);
 
     /** Each step's end state (after solve()), e.g. for a checkpoint. */
-    const std::vector<Wear::StepStart> &
+    const std::vector<Gait::StepStart> &
     get_step_starts() const
     {
       return starts;
@@ -80,14 +81,18 @@ namespace TKR::Problems
 
     /** Start the next solve() from these end states (restart). */
     void
-    set_step_starts(const std::vector<Wear::StepStart> &step_starts)
+    set_step_starts(const std::vector<Gait::StepStart> &step_starts)
     {
       starts = step_starts;
     }
 
-    /** Write the VTU files of the steps kept for output (`VTU interval`). */
+    /**
+     * Write the VTU files of the steps kept for output (`VTU interval`),
+     * with the slip and wear of each node to the next step from @p wear
+     * (the wear law's result for this cycle).
+     */
     void
-    output_steps();
+    output_steps(const Wear::CycleWear &wear);
 
     unsigned int
     n_steps() const
@@ -103,11 +108,26 @@ namespace TKR::Problems
     }
 
     /** Every step's report (after solve()). */
-    const std::vector<Wear::StepReport> &
+    const std::vector<Gait::StepReport> &
     get_reports() const
     {
       return reports;
     }
+
+    /** The gait protocol (after setup()). */
+    const Gait::Protocol &
+    get_protocol() const
+    {
+      return *protocol;
+    }
+
+    /**
+     * The step with the largest axial force (the protocol's input channel
+     * `axial_force_N`), or with the largest contact force if the protocol
+     * has no such channel.
+     */
+    unsigned int
+    peak_load_step() const;
 
     /** Contact solves of this rank repeated because they left the
      *  coupling window (`Contact solver/Coupling window`). */
@@ -117,17 +137,23 @@ namespace TKR::Problems
       return window_misses;
     }
 
-    /** The mortar coupling (D_jj of the tibia_contact nodes). */
-    const Mortar::MortarCoupling &
-    get_coupling() const
-    {
-      return model.coupling();
-    }
-
   private:
+    /** What the contact solves of one step have done so far. */
+    struct StepProgress
+    {
+      Contact::ContactState      state;
+      Contact::ContactStatistics statistics;
+      Gait::Observations         observations;
+      Mortar::CouplingWindow     window;
+      bool                       use_window        = false;
+      unsigned int               newton_iterations = 0;
+      unsigned int               n_solves          = 0;
+    };
+
     /**
-     * Solve step @p step: pose iteration of contact solves, record; keep
-     * its solution for output if @p keep_for_output.
+     * Solve step @p step: the protocol's pose solve of contact solves,
+     * the record and report; keep its solution for output if
+     * @p keep_for_output.
      */
     void
     solve_step(const unsigned int step,
@@ -135,20 +161,46 @@ namespace TKR::Problems
                const bool         keep_for_output);
 
     /**
+     * Where step @p step starts: its pose and active set of the previous
+     * cycle (warm start, with the coupling window of its last solve), or
+     * rest, with the tibia lifted to touch the femur if that is far from
+     * it (touching_lift()).
+     */
+    Gait::Pose
+    start_step(const unsigned int     step,
+               const Gait::StepInput &input,
+               StepProgress          &progress) const;
+
+    /**
+     * One contact solve of step @p step at @p pose: the mortar coupling on
+     * the moved geometry (in the coupling window if there is one, again on
+     * the whole search distance if the solve leaves it), the solve, the
+     * observations. Returns whether it converged.
+     */
+    bool
+    contact_solve(const unsigned int     step,
+                  const Gait::StepInput &input,
+                  const Gait::Pose      &pose,
+                  StepProgress          &progress);
+
+    /** The mortar coupling at @p motion, in @p window if given. */
+    void
+    couple(const Gait::RelativeMotion   &motion,
+           const Mortar::CouplingWindow *window);
+
+    /**
      * The vertex positions of a step in the tibia's frame: the femur's
-     * moved by @p femur_motion and back by the tibia's pose @p tibia_pose,
-     * the tibia's where they are. The gaps are those of the moved bodies,
-     * and the slave side of the mortar coupling stays the same within a
-     * block (MortarCoupling keeps it).
+     * moved by @p motion, the tibia's where they are. The gaps are those
+     * of the moved bodies, and the slave side of the mortar coupling stays
+     * the same within a block (MortarCoupling keeps it).
      */
     std::vector<dealii::Point<3>>
-    step_positions(const Gait::RigidMotion    &femur_motion,
-                   const dealii::Tensor<1, 3> &tibia_pose) const;
+    step_positions(const Gait::RelativeMotion &motion) const;
 
     /**
      * How far the tibia must rise (along +z, rigidly) for its contact
      * surface to touch the femur's at @p positions (step_positions() at
-     * no pose): the smallest height of a femur_contact node above the
+     * rest): the smallest height of a femur_contact node above the
      * tibia_contact node nearest to it in the xy plane, if that is within
      * the search distance. A cold step whose femur is higher than half the
      * search distance starts from this pose, not from rest: in swing the
@@ -163,17 +215,20 @@ namespace TKR::Problems
     void
     check_initial_overlap() const;
 
+    /** Exchange the records, reports and starts of @p own_steps. */
+    void
+    gather_steps(const std::vector<unsigned int> &own_steps);
+
     TwoBodyModel                           &model;
     const StepGroups                       &groups;
-    std::unique_ptr<Gait::Waveform>         waveform;
-    std::unique_ptr<Gait::GaitLoads>        gait_loads;
-    std::unique_ptr<Gait::TibiaPose>        tibia_pose;
+    std::unique_ptr<Gait::Protocol>         protocol;
     dealii::AffineConstraints<double>       dirichlet;
     std::vector<bool>                       is_femur_vertex;
     std::unique_ptr<Contact::ContactSolver> solver;
+    std::vector<std::string>                observation_names;
     std::vector<Wear::StepRecord>           records;
-    std::vector<Wear::StepReport>           reports;
-    std::vector<Wear::StepStart>            starts;
+    std::vector<Gait::StepReport>           reports;
+    std::vector<Gait::StepStart>            starts;
     unsigned int                            window_misses = 0;
 
     /** What the VTU of a step needs (its solution, state and motion). */
@@ -181,7 +236,7 @@ namespace TKR::Problems
     {
       dealii::TrilinosWrappers::MPI::Vector solution;
       Contact::ContactState                 state;
-      Gait::RigidMotion                     motion;
+      Gait::RelativeMotion                  motion;
     };
     /** The steps of this group to be written as VTU after the cycle. */
     std::map<unsigned int, SavedStep>  saved_steps;

@@ -9,6 +9,7 @@
 #include <tkr/output/vtu_output.h>
 #include <tkr/problems/gait_cycle.h>
 #include <tkr/problems/two_body_model.h>
+#include <tkr/wear/wear_law.h>
 #include <tkr/wear/wear_state.h>
 
 #include <memory>
@@ -17,26 +18,29 @@
 namespace TKR::Problems
 {
   /**
-   * `Problem = wear`: the ISO 14243-1 wear test (DESIGN.md sections 2, 4.6,
-   * 4.7). Hybrid time stepping over blocks of `Cycles per extrapolation
-   * step` (n_Delta) cycles until `Cycles`: per block one gait cycle
-   * (GaitCycle) on the current worn geometry, Archard's wear of that cycle
-   * times n_Delta added to the accumulated depth, the tibia_contact nodes
-   * moved inward along the worn surface's normal by the new depth and the
-   * motion extended into the tibia (Geometry::MeshMotion); the result is the
-   * Euler vector of the model's Geometry::WornGeometry. A block that would
-   * distort a tibia cell beyond the `Distortion limit` is refused, or
-   * retried with half the cycles. The stiffness follows the worn geometry
-   * every `Stiffness update interval` blocks. Every step starts from the
-   * same step of the previous block (warm start).
+   * `Problem = wear`: the knee-simulator wear test (DESIGN.md sections 2,
+   * 4.6, 4.7). Hybrid time stepping over blocks of `Cycles per
+   * extrapolation step` (n_Delta) cycles until `Cycles`: per block one
+   * gait cycle (GaitCycle, with the protocol of `Gait/Control`) on the
+   * current worn geometry, the wear of that cycle by the law of `Wear/Wear
+   * law` (Wear::WearLaw), extrapolated over the block by the law and added
+   * to the accumulated depth, the tibia_contact nodes moved inward along
+   * the worn surface's normal by the new depth and the motion extended
+   * into the tibia (Geometry::MeshMotion); the result is the Euler vector
+   * of the model's Geometry::WornGeometry. A block that would distort a
+   * tibia cell beyond the `Distortion limit` is refused, or retried with
+   * half the cycles. The stiffness follows the worn geometry every
+   * `Stiffness update interval` blocks. Every step starts from the same
+   * step of the previous block (warm start).
    *
    * Output per block: a row of wear_history.csv, a progress line (also in
    * progress.log), the worn tibia (worn.pvd), a checkpoint every
-   * `Checkpoint interval` blocks (checkpoint.h5, written atomically);
-   * `tkr-wear --resume FILE.prm` continues from it, on any number of ranks,
-   * with the same results. At the end: summary.json, steps.csv and the step
-   * VTU files of the last cycle, wear_map.csv, mass_loss.png and
-   * wear_map.png.
+   * `Checkpoint interval` blocks (checkpoint.h5, written atomically, with
+   * the parameters that determine the state); `tkr-wear --resume
+   * FILE.prm` continues from it, on any number of ranks, with the same
+   * results, and refuses a parameter file that differs in those. At the
+   * end: summary.json, steps.csv and the step VTU files of the last cycle,
+   * wear_map.csv, mass_loss.png and wear_map.png.
    */
   class WearProblem
   {
@@ -54,7 +58,7 @@ namespace TKR::Problems
     const std::vector<double> &
     get_wear_depth() const
     {
-      return cycle_depth;
+      return cycle_wear.depth;
     }
 
   private:
@@ -63,11 +67,15 @@ namespace TKR::Problems
     start();
 
     /**
-     * The Archard wear of the cycle just solved: depth per node, the
-     * block's statistics; the report of the first cycle.
+     * The wear of the cycle just solved (the wear law on the cycle's
+     * sliding) and the block's statistics.
      */
     void
     compute_wear();
+
+    /** The screen report of the first cycle (on the unworn insert). */
+    void
+    report_first_cycle();
 
     /**
      * Add the wear of min(n_Delta, cycles left) cycles to the geometry,
@@ -77,21 +85,51 @@ namespace TKR::Problems
     double
     extrapolate();
 
+    /**
+     * The error (or, if the block is halved, the warning) for a block of
+     * @p n cycles that would distort the tibia as @p distortion says with
+     * the depth @p increment.
+     */
+    std::string
+    distortion_message(const double                n,
+                       const Geometry::Distortion &distortion,
+                       const std::vector<double>  &increment) const;
+
     /** History row, progress line, worn tibia VTU, checkpoint. */
     void
     finish_block(const double block_wall_time);
+
+    /** The progress line of the block (screen and progress.log). */
+    void
+    report_progress(const double block_wall_time) const;
+
+    /** The worn tibia's VTU file of the block (step group 0). */
+    void
+    output_worn_tibia();
+
+    /** A checkpoint, if one is due after this block. */
+    void
+    write_checkpoint_if_due();
 
     /** summary.json, steps.csv, step VTU files, wear map, plots. */
     void
     output_results();
 
-    const bool           resume;
-    const StepGroups     groups;
-    TwoBodyModel         model;
-    GaitCycle            cycle;
-    Geometry::MeshMotion motion;
-    Wear::WearRunState   state;
-    std::vector<double>  cycle_depth, cycle_slip;
+    const bool                     resume;
+    const StepGroups               groups;
+    TwoBodyModel                   model;
+    GaitCycle                      cycle;
+    Geometry::MeshMotion           motion;
+    std::unique_ptr<Wear::WearLaw> law;
+    Wear::WearRunState             state;
+    /** The wear of the last block's cycle. */
+    Wear::CycleWear cycle_wear;
+    /**
+     * The nodal areas of the worn surface on which the last block's cycle
+     * was solved (before the block's wear moved it): the block's volume
+     * and wear area are measured on them.
+     */
+    std::vector<double> block_areas;
     /** The block's statistics: peak pressure, largest contact area. */
     double                             peak_pressure = 0, max_contact_area = 0;
     std::unique_ptr<Output::VtuSeries> worn_series;

@@ -4,48 +4,44 @@
 #ifndef tkr_wear_archard_h
 #define tkr_wear_archard_h
 
-#include <tkr/mortar/mortar_coupling.h>
-#include <tkr/wear/step_record.h>
-
-#include <vector>
+#include <tkr/wear/wear_law.h>
 
 namespace TKR::Wear
 {
   /**
-   * The wear depth (mm) of every node over the interval from step @p a to
-   * step @p b (the trapezoidal rule of cycle_wear_depth()); @p slip (if
-   * given) gets each node's slip over the interval (mm; the mean of the
-   * slips from the points touched at both ends, or the one where the node
-   * touched, zero where it touched at neither).
+   * Archard's law with a constant wear coefficient (`Wear law = archard`,
+   * the reference paper's model, DESIGN.md section 2): dh/dt = k p |v_t|.
+   * Over an interval from step a to step b the femur point that node j
+   * touches at a slides by s_a, the one it touches at b by s_b
+   * (IntervalSliding), and the trapezoidal rule gives the depth
+   * k (p_a |s_a| + p_b |s_b|) / 2.
    */
-  std::vector<double>
-  interval_wear_depth(const StepRecord    &a,
-                      const StepRecord    &b,
-                      const double         k,
-                      std::vector<double> *slip = nullptr);
+  class ArchardWear : public WearLaw
+  {
+  public:
+    /** @p k_per_metre: the `Wear coefficient` in mm^3/(N m). */
+    explicit ArchardWear(const double k_per_metre);
 
-  /**
-   * Archard's law dh/dt = k p |v_t| integrated over one periodic cycle of
-   * steps with the trapezoidal rule. Between steps i and i+1 (the last step
-   * followed by the first) the femur point that node j touches at step i
-   * moves by M_{i+1}(X) - M_i(X) while the node moves by
-   * u_{i+1} - u_i; the tangential part of the difference is the slip s.
-   * The depth increment is k (p_i s(X_i) + p_{i+1} s(X_{i+1})) / 2.
-   *
-   * @p k in mm^3/(N mm) (the `.prm` value in mm^3/(N m) times 1e-3), the
-   * result in mm per node; @p slip (if given) gets the slip distance of
-   * every node over the whole cycle (mm, pressure-independent: summed where
-   * the node is in contact at either end of the interval).
-   */
-  std::vector<double>
-  cycle_wear_depth(const std::vector<StepRecord> &steps,
-                   const double                   k,
-                   std::vector<double>           *slip = nullptr);
+    std::string
+    name() const override
+    {
+      return "archard";
+    }
 
-  /** Worn volume (mm^3): sum of nodal depth times D_jj. */
-  double
-  worn_volume(const std::vector<double>    &depth,
-              const Mortar::MortarCoupling &coupling);
+    std::string
+    description() const override;
+
+    double
+    interval_depth(const CycleSliding &sliding,
+                   const unsigned int  i,
+                   const unsigned int  j) const override;
+
+  private:
+    /** The coefficient in mm^3/(N m), as given. */
+    const double k_per_metre;
+    /** The coefficient in mm^3/(N mm) = mm^2/N: k_per_metre x 1e-3. */
+    const double k;
+  };
 } // namespace TKR::Wear
 
 #endif

@@ -6,7 +6,7 @@
 
 #include <deal.II/base/tensor.h>
 
-#include <tkr/wear/step_record.h>
+#include <tkr/gait/step_report.h>
 
 #include <vector>
 
@@ -52,7 +52,7 @@ namespace TKR::Wear
     /** Accumulated wear depth of every vertex (mm). */
     std::vector<double> depth;
     /** Each gait step's end state of the last block (warm starts). */
-    std::vector<StepStart> step_starts;
+    std::vector<Gait::StepStart> step_starts;
     /** One row per block done (and block 0). */
     std::vector<BlockResult> history;
     /** Worn volume (mm^3), sums over all blocks, every step converged. */

@@ -1,0 +1,114 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#ifndef tkr_gait_force_control_h
+#define tkr_gait_force_control_h
+
+#include <tkr/gait/gait_loads.h>
+#include <tkr/gait/protocol.h>
+#include <tkr/gait/tibia_pose.h>
+#include <tkr/gait/waveform.h>
+
+namespace TKR::Gait
+{
+  /**
+   * ISO 14243-1 force control (`Gait/Control = force`, DESIGN.md section
+   * 2): the femur is rotated by the flexion angle about the flexion axis;
+   * the tibia has no displacement condition, it is loaded on its inferior
+   * surface by the axial force (with its medial offset), the AP force and
+   * the IE torque of the waveform and held by the AP and IE restraints
+   * (GaitLoads). Its pose is the tibia's rigid translation with the
+   * two-rate restraints' excess force and torque, solved by
+   * TibiaPose::iterate() around the contact solves.
+   *
+   * The waveform's channels: flexion_deg, axial_force_N, ap_force_N,
+   * ie_torque_Nm (with percent_cycle; data/iso14243-1.csv).
+   */
+  class ForceControl : public Protocol
+  {
+  public:
+    ForceControl(const Parameters::Gait &parameters,
+                 const InferiorSurface  &surface);
+
+    std::string
+    name() const override
+    {
+      return "force";
+    }
+
+    std::string
+    setup_text() const override;
+
+    void
+    add_constraints(const dealii::DoFHandler<3>       &dof_handler,
+                    dealii::AffineConstraints<double> &constraints,
+                    const dealii::ConditionalOStream  &pcout) const override;
+
+    Elasticity::BoundaryLoads
+    springs() const override;
+
+    std::vector<Elasticity::BoundaryLoads>
+    load_basis() const override;
+
+    std::vector<std::pair<std::string, Elasticity::BoundaryLoads>>
+    observations() const override;
+
+    StepInput
+    input(const double percent) const override;
+
+    Pose
+    rest_pose(const StepInput &input, const double lift) const override;
+
+    RelativeMotion
+    motion(const StepInput &input, const Pose &pose) const override;
+
+    std::vector<double>
+    load_coefficients(const StepInput &input, const Pose &pose) const override;
+
+    PoseSolve
+    solve_pose(const StepInput    &input,
+               Pose               &pose,
+               const ContactSolve &solve) const override;
+
+    void
+    report(const Pose         &pose,
+           const Observations &last,
+           StepReport         &report) const override;
+
+    std::vector<std::string>
+    input_columns() const override;
+
+    std::vector<std::string>
+    pose_columns() const override;
+
+    std::string
+    input_text(const StepReport &report) const override;
+
+    std::string
+    pose_text(const StepReport &report) const override;
+
+    /** The gait state (flexion, forces) of @p input. */
+    static GaitState
+    gait_state(const StepInput &input);
+
+    /** The pose state of an opaque @p pose (rest if it is empty). */
+    static PoseState
+    pose_state(const Pose &pose);
+
+    /** The opaque pose of @p state. */
+    static Pose
+    to_pose(const PoseState &state);
+
+    /** The inferior motion from the observations (by name). */
+    static InferiorMotion
+    inferior_motion(const Observations &observations);
+
+  private:
+    const Parameters::Gait parameters;
+    const Waveform         waveform;
+    const GaitLoads        gait_loads;
+    const TibiaPose        tibia_pose;
+  };
+} // namespace TKR::Gait
+
+#endif

@@ -1,0 +1,191 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#ifndef tkr_gait_protocol_h
+#define tkr_gait_protocol_h
+
+#include <deal.II/base/conditional_ostream.h>
+
+#include <deal.II/dofs/dof_handler.h>
+
+#include <deal.II/lac/affine_constraints.h>
+
+#include <tkr/elasticity/linear_elasticity.h>
+#include <tkr/gait/rigid_motion.h>
+#include <tkr/gait/step_report.h>
+#include <tkr/gait/waveform.h>
+#include <tkr/parameters/parameters.h>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace TKR::Gait
+{
+  /**
+   * Values of the linear functionals of the displacement that a protocol
+   * asked for (Protocol::observations()), after a contact solve, looked
+   * up by name.
+   */
+  class Observations
+  {
+  public:
+    Observations() = default;
+
+    /** The observations @p names with the values @p values. */
+    Observations(std::vector<std::string> names, std::vector<double> values);
+
+    /** The value of the observation @p name; an internal error if unknown. */
+    double
+    operator[](const std::string &name) const;
+
+  private:
+    std::vector<std::string> names;
+    std::vector<double>      values;
+  };
+
+  /** What the pose solve of a step did. */
+  struct PoseSolve
+  {
+    /** Updates of the pose (contact solves - 1). */
+    unsigned int n_updates = 0;
+    /** The pose met its tolerance (and every contact solve converged). */
+    bool converged = false;
+  };
+
+  /**
+   * A gait protocol (DESIGN.md section 10): how a knee simulator drives
+   * the two bodies through a cycle, e.g. ISO 14243-1 force control. It
+   * owns everything that differs between protocols, so that the gait
+   * driver (Problems::GaitCycle) never asks which protocol it runs:
+   * - the tibia's support: constraints (a rigid tray), springs and the
+   *   tractions every step's loads are combinations of (load_basis());
+   * - per step, from its waveform: the inputs (input()), the relative
+   *   rigid motion of the femur in the tibia's frame (motion()) and the
+   *   coefficients of the load basis (load_coefficients()), both for a
+   *   pose;
+   * - the linear functionals of the displacement its pose solve reads,
+   *   registered by name (observations());
+   * - the pose solve of a step (solve_pose()): contact solves at poses of
+   *   its choice until its own equilibrium holds; the pose is opaque to
+   *   the driver (warm starts and checkpoints keep it as it is);
+   * - its part of the step report (report(), input_text(), pose_text(),
+   *   the columns of steps.csv).
+   * A new protocol is one class behind this interface and one line in
+   * create_protocol().
+   */
+  class Protocol
+  {
+  public:
+    virtual ~Protocol() = default;
+
+    /** The `Gait/Control` name of the protocol ("force"). */
+    virtual std::string
+    name() const = 0;
+
+    /**
+     * What the protocol measured and chose when it was made (e.g. the
+     * tibia's inferior surface), one line for the screen.
+     */
+    virtual std::string
+    setup_text() const = 0;
+
+    /**
+     * Add the constraints of the tibia's support to @p constraints (e.g.
+     * the rigid tray) and say what was done on @p pcout.
+     */
+    virtual void
+    add_constraints(const dealii::DoFHandler<3>       &dof_handler,
+                    dealii::AffineConstraints<double> &constraints,
+                    const dealii::ConditionalOStream  &pcout) const = 0;
+
+    /** The springs of every step (they go into the stiffness matrix). */
+    virtual Elasticity::BoundaryLoads
+    springs() const = 0;
+
+    /** The tractions of which every step's loads are combinations. */
+    virtual std::vector<Elasticity::BoundaryLoads>
+    load_basis() const = 0;
+
+    /**
+     * The linear functionals of the displacement that the pose solve
+     * needs, by name: tractions whose work is the functional.
+     */
+    virtual std::vector<std::pair<std::string, Elasticity::BoundaryLoads>>
+    observations() const = 0;
+
+    /** The inputs of the step at @p percent of the cycle. */
+    virtual StepInput
+    input(const double percent) const = 0;
+
+    /**
+     * The pose a step starts from without a warm start: at rest, with the
+     * tibia lifted by @p lift (mm, along +z) towards the femur.
+     */
+    virtual Pose
+    rest_pose(const StepInput &input, const double lift) const = 0;
+
+    /** The femur's rigid motion in the tibia's frame in @p pose. */
+    virtual RelativeMotion
+    motion(const StepInput &input, const Pose &pose) const = 0;
+
+    /** The coefficients of load_basis() in @p pose. */
+    virtual std::vector<double>
+    load_coefficients(const StepInput &input, const Pose &pose) const = 0;
+
+    /**
+     * A contact solve at a pose: true if it converged, with the values of
+     * the observations() in its second argument.
+     */
+    using ContactSolve = std::function<bool(const Pose &, Observations &)>;
+
+    /**
+     * Solve the step's pose from @p pose (updated): contact solves by
+     * @p solve until the protocol's equilibrium holds within its tolerance
+     * or a contact solve fails.
+     */
+    virtual PoseSolve
+    solve_pose(const StepInput    &input,
+               Pose               &pose,
+               const ContactSolve &solve) const = 0;
+
+    /**
+     * The protocol's numbers of a solved step for @p report: report.pose
+     * and report.pose_values (pose_columns()), from the pose and the
+     * observations of its last contact solve.
+     */
+    virtual void
+    report(const Pose         &pose,
+           const Observations &last,
+           StepReport         &report) const = 0;
+
+    /** Names (with units) of StepInput::values, e.g. for steps.csv. */
+    virtual std::vector<std::string>
+    input_columns() const = 0;
+
+    /** Names (with units) of StepReport::pose_values, for steps.csv. */
+    virtual std::vector<std::string>
+    pose_columns() const = 0;
+
+    /** The inputs in a step's screen line ("flexion 12.0 deg, ..."). */
+    virtual std::string
+    input_text(const StepReport &report) const = 0;
+
+    /** The pose in a step's screen line ("tibia y 0.30 z 0.06 mm"). */
+    virtual std::string
+    pose_text(const StepReport &report) const = 0;
+  };
+
+  /**
+   * The protocol of `Gait/Control` with the waveform of `Gait/Waveform
+   * file`, for the bodies of @p triangulation (e.g. the tibia's inferior
+   * surface, where its loads act).
+   */
+  std::unique_ptr<Protocol>
+  create_protocol(const Parameters::Gait         &parameters,
+                  const dealii::Triangulation<3> &triangulation);
+} // namespace TKR::Gait
+
+#endif

@@ -1,0 +1,139 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#ifndef tkr_wear_wear_law_h
+#define tkr_wear_wear_law_h
+
+#include <tkr/parameters/parameters.h>
+#include <tkr/wear/sliding.h>
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace TKR::Wear
+{
+  /** Named per-node fields of a law (e.g. cross-shear), for the output. */
+  using NodeFields = std::vector<std::pair<std::string, std::vector<double>>>;
+
+  /**
+   * The wear of one gait cycle, node by node (`tibia_contact` nodes, in
+   * the order of the mortar coupling's slave nodes).
+   */
+  struct CycleWear
+  {
+    /** Wear depth of every node over the cycle (mm). */
+    std::vector<double> depth;
+    /** Wear depth of every node over each interval (mm; [interval][node]). */
+    std::vector<std::vector<double>> interval_depth;
+    /** Slip distance of every node over each interval (mm; [interval][node]).
+     */
+    std::vector<std::vector<double>> interval_slip;
+    /** Slip distance of every node over the cycle (mm). */
+    std::vector<double> slip;
+    /** The law's own per-node quantities of the cycle (WearLaw::node_fields()).
+     */
+    NodeFields fields;
+  };
+
+  /**
+   * A wear law (DESIGN.md section 10): how the sliding of a gait cycle
+   * wears the insert. Two phases: analyse_cycle() passes over the whole
+   * cycle for per-node quantities that need it (e.g. the cross-shear of
+   * the node's sliding path; nothing for Archard's law), then
+   * interval_depth() gives the wear of one node over one interval. The
+   * wear of a block of cycles is the law's job too (effective_cycles():
+   * e.g. a run-in factor integrated from cycle N to N + n_Delta). Units
+   * are converted once, in the law's constructor. cycle_wear() runs both
+   * phases and is what the driver calls: every wear number of a run (the
+   * block's wear, the step VTU fields, wear area and depth) comes from it.
+   *
+   * A new law is one class behind this interface and one line in
+   * create_wear_law().
+   */
+  class WearLaw
+  {
+  public:
+    virtual ~WearLaw() = default;
+
+    /** The `Wear/Wear law` name ("archard"). */
+    virtual std::string
+    name() const = 0;
+
+    /** One line for the screen: the law and its constants with units. */
+    virtual std::string
+    description() const = 0;
+
+    /**
+     * Phase 1: per-node quantities over the whole cycle @p sliding, kept
+     * for interval_depth() and node_fields(). Nothing by default.
+     */
+    virtual void
+    analyse_cycle(const CycleSliding &sliding);
+
+    /**
+     * Phase 2: the wear depth (mm) of node @p j over interval @p i of the
+     * cycle @p sliding (analysed last).
+     */
+    virtual double
+    interval_depth(const CycleSliding &sliding,
+                   const unsigned int  i,
+                   const unsigned int  j) const = 0;
+
+    /**
+     * The number of cycles of wear at the rate of the cycle computed at
+     * cycle @p first_cycle that a block of @p n_cycles cycles from there
+     * adds: @p n_cycles for a law whose rate does not depend on the cycle
+     * count, the integral of the rate factor over the block for a run-in.
+     */
+    virtual double
+    effective_cycles(const double first_cycle, const double n_cycles) const;
+
+    /** The law's per-node quantities of the cycle analysed last. */
+    virtual NodeFields
+    node_fields() const;
+
+    /** Both phases over the cycle @p sliding. */
+    CycleWear
+    cycle_wear(const CycleSliding &sliding);
+  };
+
+  /** The law of `Wear/Wear law` with its constants. */
+  std::unique_ptr<WearLaw>
+  create_wear_law(const Parameters::Wear &parameters);
+
+  /** The worn volume, depth and area of a depth field on the worn surface. */
+  struct WearMeasures
+  {
+    /** sum_j depth_j A_j (mm^3). */
+    double volume = 0;
+    /** Largest depth (mm). */
+    double max_depth = 0;
+    /** Area of the nodes whose scaled depth exceeds the threshold, and of
+     *  all nodes (mm^2). */
+    double worn_area = 0, area = 0;
+
+    /** The worn area in percent of the whole surface. */
+    double
+    worn_percent() const
+    {
+      return area > 0 ? 100. * worn_area / area : 0.;
+    }
+  };
+
+  /**
+   * The measures of the nodal @p depth (mm) on a surface with the nodal
+   * areas @p nodal_area (mm^2): a node counts as worn where
+   * @p depth_scale x depth exceeds @p threshold (mm), e.g. the depth of
+   * one cycle scaled to the cycles of the test, or the accumulated depth
+   * with scale 1.
+   */
+  WearMeasures
+  measure_wear(const std::vector<double> &depth,
+               const std::vector<double> &nodal_area,
+               const double               threshold,
+               const double               depth_scale = 1.);
+} // namespace TKR::Wear
+
+#endif

@@ -1,0 +1,226 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#include <tkr/base/exceptions.h>
+#include <tkr/gait/force_control.h>
+
+#include <array>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace TKR::Gait
+{
+  using namespace dealii;
+
+  namespace
+  {
+    /** The names of the inferior motion's observations. */
+    const std::array<std::string, 4> motion_names = {
+      {"inferior_mean_displacement_x",
+       "inferior_mean_displacement_y",
+       "inferior_mean_displacement_z",
+       "inferior_rotation_z_deg"}};
+
+    /** The waveform's channels. */
+    const std::vector<std::string> channels = {"flexion_deg",
+                                               "axial_force_N",
+                                               "ap_force_N",
+                                               "ie_torque_Nm"};
+  } // namespace
+
+  ForceControl::ForceControl(const Parameters::Gait &parameters,
+                             const InferiorSurface  &surface)
+    : parameters(parameters)
+    , waveform(parameters.waveform_file, channels)
+    , gait_loads(parameters, surface)
+    , tibia_pose(parameters, gait_loads)
+  {}
+
+  std::string
+  ForceControl::setup_text() const
+  {
+    const auto        &surface = gait_loads.inferior_surface();
+    std::ostringstream text;
+    text << "Tibia inferior surface: " << surface.area << " mm^2, insert width "
+         << surface.width << " mm";
+    return text.str();
+  }
+
+  void
+  ForceControl::add_constraints(const DoFHandler<3>       &dof_handler,
+                                AffineConstraints<double> &constraints,
+                                const ConditionalOStream  &pcout) const
+  {
+    if (!parameters.rigid_tray)
+      return;
+    const unsigned int n_tied =
+      tibia_pose.add_tray_constraints(dof_handler, constraints);
+    pcout << "Tibial tray: rigid (no sagittal tilt), " << n_tied
+          << " inferior nodes tied to 5 DoFs" << std::endl;
+  }
+
+  Elasticity::BoundaryLoads
+  ForceControl::springs() const
+  {
+    return tibia_pose.springs();
+  }
+
+  std::vector<Elasticity::BoundaryLoads>
+  ForceControl::load_basis() const
+  {
+    return tibia_pose.load_basis();
+  }
+
+  std::vector<std::pair<std::string, Elasticity::BoundaryLoads>>
+  ForceControl::observations() const
+  {
+    const auto functionals = tibia_pose.motion_functionals();
+    std::vector<std::pair<std::string, Elasticity::BoundaryLoads>> named;
+    for (unsigned int i = 0; i < functionals.size(); ++i)
+      named.emplace_back(motion_names[i], functionals[i]);
+    return named;
+  }
+
+  StepInput
+  ForceControl::input(const double percent) const
+  {
+    StepInput input;
+    input.percent = percent - 100. * std::floor(percent / 100.);
+    input.values  = waveform.at(percent);
+    return input;
+  }
+
+  GaitState
+  ForceControl::gait_state(const StepInput &input)
+  {
+    AssertDimension(input.values.size(), 4);
+    GaitState state;
+    state.percent     = input.percent;
+    state.flexion     = input.values[0];
+    state.axial_force = input.values[1];
+    state.ap_force    = input.values[2];
+    state.ie_torque   = input.values[3];
+    return state;
+  }
+
+  PoseState
+  ForceControl::pose_state(const Pose &pose)
+  {
+    PoseState state;
+    if (pose.empty())
+      return state;
+    AssertDimension(pose.values.size(), 5);
+    for (unsigned int d = 0; d < 3; ++d)
+      state.translation[d] = pose.values[d];
+    state.restraint_force  = pose.values[3];
+    state.restraint_torque = pose.values[4];
+    return state;
+  }
+
+  Pose
+  ForceControl::to_pose(const PoseState &state)
+  {
+    return Pose{{state.translation[0],
+                 state.translation[1],
+                 state.translation[2],
+                 state.restraint_force,
+                 state.restraint_torque}};
+  }
+
+  InferiorMotion
+  ForceControl::inferior_motion(const Observations &observations)
+  {
+    InferiorMotion motion;
+    for (unsigned int d = 0; d < 3; ++d)
+      motion.mean[d] = observations[motion_names[d]];
+    motion.rotation_z = observations[motion_names[3]];
+    return motion;
+  }
+
+  Pose
+  ForceControl::rest_pose(const StepInput &, const double lift) const
+  {
+    PoseState state;
+    state.translation[2] = lift;
+    return to_pose(state);
+  }
+
+  // The tibia only translates: its motion is the pose's translation.
+  RelativeMotion
+  ForceControl::motion(const StepInput &input, const Pose &pose) const
+  {
+    RelativeMotion motion;
+    motion.femur             = gait_loads.femur_motion(gait_state(input));
+    motion.tibia.translation = pose_state(pose).translation;
+    return motion;
+  }
+
+  std::vector<double>
+  ForceControl::load_coefficients(const StepInput &input,
+                                  const Pose      &pose) const
+  {
+    return tibia_pose.load_coefficients(gait_state(input), pose_state(pose));
+  }
+
+  PoseSolve
+  ForceControl::solve_pose(const StepInput &,
+                           Pose               &pose,
+                           const ContactSolve &solve) const
+  {
+    PoseState  state   = pose_state(pose);
+    const auto contact = [&](const PoseState &at, InferiorMotion &motion) {
+      Observations observations;
+      const bool   converged = solve(to_pose(at), observations);
+      motion                 = inferior_motion(observations);
+      return converged;
+    };
+    const PoseIteration iteration = tibia_pose.iterate(state, contact);
+    pose                          = to_pose(state);
+    return {iteration.n_updates, iteration.converged};
+  }
+
+  void
+  ForceControl::report(const Pose         &pose,
+                       const Observations &last,
+                       StepReport         &report) const
+  {
+    report.pose        = pose;
+    report.pose_values = {pose_state(pose).translation[1],
+                          inferior_motion(last).rotation_z};
+  }
+
+  std::vector<std::string>
+  ForceControl::input_columns() const
+  {
+    return channels;
+  }
+
+  std::vector<std::string>
+  ForceControl::pose_columns() const
+  {
+    return {"ap_position_mm", "ie_rotation_deg"};
+  }
+
+  std::string
+  ForceControl::input_text(const StepReport &report) const
+  {
+    const GaitState    state = gait_state(report.input);
+    std::ostringstream text;
+    text << std::fixed << std::setprecision(1) << "flexion " << std::setw(5)
+         << state.flexion << " deg, axial " << std::setw(6)
+         << std::setprecision(0) << state.axial_force << " N";
+    return text.str();
+  }
+
+  std::string
+  ForceControl::pose_text(const StepReport &report) const
+  {
+    const PoseState    state = pose_state(report.pose);
+    std::ostringstream text;
+    text << std::fixed << std::setprecision(2) << "tibia y " << std::setw(5)
+         << state.translation[1] << " z " << std::setw(5)
+         << state.translation[2] << " mm";
+    return text.str();
+  }
+} // namespace TKR::Gait

@@ -1,0 +1,45 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#include <tkr/base/exceptions.h>
+#include <tkr/gait/force_control.h>
+#include <tkr/gait/protocol.h>
+
+#include <algorithm>
+
+namespace TKR::Gait
+{
+  using namespace dealii;
+
+  Observations::Observations(std::vector<std::string> names,
+                             std::vector<double>      values)
+    : names(std::move(names))
+    , values(std::move(values))
+  {
+    AssertDimension(this->names.size(), this->values.size());
+  }
+
+  double
+  Observations::operator[](const std::string &name) const
+  {
+    const auto it = std::find(names.begin(), names.end(), name);
+    AssertThrow(it != names.end(),
+                ExcMessage("No observation named <" + name + ">."));
+    return values[it - names.begin()];
+  }
+
+  std::unique_ptr<Protocol>
+  create_protocol(const Parameters::Gait &parameters,
+                  const Triangulation<3> &triangulation)
+  {
+    switch (parameters.control)
+      {
+        case Parameters::GaitControl::force:
+          return std::make_unique<ForceControl>(parameters,
+                                                measure_inferior_surface(
+                                                  triangulation));
+      }
+    AssertThrow(false, ExcNotImplemented());
+    return nullptr;
+  }
+} // namespace TKR::Gait

@@ -1,0 +1,207 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#include <deal.II/base/utilities.h>
+
+#include <tkr/base/exceptions.h>
+
+#include "parameter_file.h"
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+namespace TKR::Parameters::internal
+{
+  using namespace dealii;
+
+  namespace
+  {
+    /** A line without its comment (from an unescaped '#'), trimmed. */
+    std::string
+    strip(const std::string &line)
+    {
+      std::size_t end = 0;
+      while (end < line.size() &&
+             !(line[end] == '#' && (end == 0 || line[end - 1] != '\\')))
+        ++end;
+      return Utilities::trim(line.substr(0, end));
+    }
+
+    /** Runs of blanks in a name collapsed to one (as ParameterHandler). */
+    std::string
+    collapse(const std::string &name)
+    {
+      std::string result;
+      for (const char c : Utilities::trim(name))
+        if (!(c == ' ' && !result.empty() && result.back() == ' '))
+          result += c;
+      return result;
+    }
+
+    /** True if @p file exists and is readable. */
+    bool
+    readable(const std::filesystem::path &file)
+    {
+      return std::ifstream(file).good();
+    }
+  } // namespace
+
+  ParameterText::ParameterText(const std::string &filename)
+  {
+    append(filename, 0);
+    find_setters();
+  }
+
+  void
+  ParameterText::append(const std::string &filename, const unsigned int depth)
+  {
+    AssertThrow(depth < 20,
+                ExcInputError("The parameter file <" + filename +
+                              "> is included in itself (include cycle)."));
+    std::ifstream in(filename);
+    AssertThrow(in.good(),
+                ExcInputError("Cannot open the parameter file <" + filename +
+                              ">: it does not exist or is not readable."));
+    const std::filesystem::path directory =
+      std::filesystem::path(filename).parent_path();
+    std::string  line;
+    unsigned int number = 0;
+    while (std::getline(in, line))
+      {
+        ++number;
+        const std::string content = strip(line);
+        if (content.rfind("include ", 0) == 0 ||
+            content.rfind("INCLUDE ", 0) == 0)
+          {
+            const std::string     name = Utilities::trim(content.substr(8));
+            std::filesystem::path file(name);
+            if (file.is_relative() && readable(directory / file))
+              file = directory / file;
+            AssertThrow(
+              readable(file),
+              ExcInputError(
+                "Line <" + std::to_string(number) + "> of file <" + filename +
+                ">: cannot open the included file <" + name + "> (looked in <" +
+                (directory.empty() ? std::string(".") : directory.string()) +
+                "> and in the working directory)."));
+            append(file.string(), depth + 1);
+            continue;
+          }
+        expanded += line + '\n';
+        origin.emplace_back(filename, number);
+      }
+  }
+
+  // The subsection path of every `set` line, as ParameterHandler reads
+  // it: `subsection NAME` opens, `end` closes, a trailing backslash joins
+  // the next line.
+  void
+  ParameterText::find_setters()
+  {
+    std::istringstream       in(expanded);
+    std::vector<std::string> path;
+    std::string              line, joined;
+    unsigned int             number = 0, first = 0;
+    while (std::getline(in, line))
+      {
+        ++number;
+        if (joined.empty())
+          first = number - 1;
+        const std::string content = strip(line);
+        if (!content.empty() && content.back() == '\\')
+          {
+            joined += content.substr(0, content.size() - 1) + ' ';
+            continue;
+          }
+        const std::string logical = Utilities::trim(joined + content);
+        joined.clear();
+        if (logical.rfind("subsection ", 0) == 0)
+          path.push_back(collapse(logical.substr(11)));
+        else if (logical == "end" && !path.empty())
+          path.pop_back();
+        else if (logical.rfind("set ", 0) == 0 &&
+                 logical.find('=') != std::string::npos)
+          {
+            std::string entry;
+            for (const auto &name : path)
+              entry += name + '/';
+            entry += collapse(logical.substr(4, logical.find('=') - 4));
+            setter[entry] = first;
+          }
+      }
+  }
+
+  std::string
+  ParameterText::locate(const std::string &message) const
+  {
+    static const std::regex line_of_file("Line <([0-9]+)> of file <[^>]*>");
+    std::smatch             match;
+    if (!std::regex_search(message, match, line_of_file))
+      return message;
+    const unsigned int line = std::stoul(match[1].str());
+    if (line == 0 || line > origin.size())
+      return message;
+    const auto &[file, number] = origin[line - 1];
+    return match.prefix().str() + "Line <" + std::to_string(number) +
+           "> of file <" + file + ">" + match.suffix().str();
+  }
+
+  std::string
+  ParameterText::directory_of(const std::string &path) const
+  {
+    const auto it = setter.find(path);
+    if (it == setter.end())
+      return "";
+    return std::filesystem::path(origin[it->second].first)
+      .parent_path()
+      .string();
+  }
+
+  // ShortPRM output is `subsection NAME`, `set NAME = VALUE` and `end`
+  // lines only.
+  std::map<std::string, std::string>
+  list_entries(const ParameterHandler &prm)
+  {
+    std::ostringstream out;
+    prm.print_parameters(out, ParameterHandler::ShortPRM);
+    std::istringstream                 in(out.str());
+    std::map<std::string, std::string> entries;
+    std::vector<std::string>           path;
+    std::string                        line;
+    while (std::getline(in, line))
+      {
+        const std::string content = Utilities::trim(line);
+        if (content.rfind("subsection ", 0) == 0)
+          path.push_back(Utilities::trim(content.substr(11)));
+        else if (content == "end" && !path.empty())
+          path.pop_back();
+        else if (content.rfind("set ", 0) == 0)
+          {
+            const std::size_t equals = content.find('=');
+            std::string       entry;
+            for (const auto &name : path)
+              entry += name + '/';
+            entry += Utilities::trim(content.substr(4, equals - 4));
+            entries[entry] = Utilities::trim(content.substr(equals + 1));
+          }
+      }
+    return entries;
+  }
+
+  std::string
+  resolve_path(const std::string &path, const std::string &directory)
+  {
+    const std::filesystem::path file(path);
+    if (path.empty() || file.is_absolute())
+      return path;
+    for (const std::filesystem::path &base :
+         {std::filesystem::path(directory),
+          std::filesystem::path(),
+          std::filesystem::path(TKR_SOURCE_DIR)})
+      if (readable(base / file))
+        return (base / file).lexically_normal().string();
+    return path;
+  }
+} // namespace TKR::Parameters::internal

@@ -1,0 +1,87 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+//
+// Reading a parameter file: its `include` lines, where each entry was set,
+// and relative paths (private to source/parameters/).
+
+#ifndef tkr_parameters_parameter_file_h
+#define tkr_parameters_parameter_file_h
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace TKR::Parameters::internal
+{
+  /**
+   * A parameter file with its `include FILE` lines replaced by the lines
+   * of FILE (recursively), FILE taken from the directory of the file that
+   * includes it, then from the working directory. Each line of the text
+   * remembers the file and line it came from, so that a message of
+   * ParameterHandler about a line of the text can name the real place,
+   * and so that the file that set an entry is known (a relative path in
+   * it is taken from that file's directory).
+   */
+  class ParameterText
+  {
+  public:
+    /** Read @p filename (ExcInputError if it or an include is missing). */
+    explicit ParameterText(const std::string &filename);
+
+    /** The expanded text. */
+    const std::string &
+    text() const
+    {
+      return expanded;
+    }
+
+    /**
+     * @p message with "Line <N> of file <NAME>" (N a line of the expanded
+     * text, NAME the name it was parsed under) replaced by the file and
+     * line that line came from.
+     */
+    std::string
+    locate(const std::string &message) const;
+
+    /**
+     * The directory of the file whose line set the entry @p path (e.g.
+     * "Mesh/File") last, "" if no line sets it.
+     */
+    std::string
+    directory_of(const std::string &path) const;
+
+  private:
+    /** Append the lines of @p filename; @p depth counts nested includes. */
+    void
+    append(const std::string &filename, const unsigned int depth);
+
+    /** Record for every `set` line the entry it sets. */
+    void
+    find_setters();
+
+    std::string expanded;
+    /** Per line of the text: the file and the line number there. */
+    std::vector<std::pair<std::string, unsigned int>> origin;
+    /** Per entry path: the line of the text that set it last. */
+    std::map<std::string, unsigned int> setter;
+  };
+
+  /** Every entry of @p prm as "Subsection/.../Entry" -> value. */
+  std::map<std::string, std::string>
+  list_entries(const dealii::ParameterHandler &prm);
+
+  /**
+   * A relative @p path taken from @p directory (if that has the file),
+   * else from the working directory (if it has it), else from the
+   * directory of the tkr-wear sources (the bundled meshes and data); the
+   * first that exists. An absolute path, or one found nowhere, is
+   * returned as it is.
+   */
+  std::string
+  resolve_path(const std::string &path, const std::string &directory);
+} // namespace TKR::Parameters::internal
+
+#endif

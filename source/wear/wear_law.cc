@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#include <tkr/base/exceptions.h>
+#include <tkr/wear/archard.h>
+#include <tkr/wear/wear_law.h>
+
+#include <algorithm>
+
+namespace TKR::Wear
+{
+  void
+  WearLaw::analyse_cycle(const CycleSliding &)
+  {}
+
+  double
+  WearLaw::effective_cycles(const double, const double n_cycles) const
+  {
+    return n_cycles;
+  }
+
+  NodeFields
+  WearLaw::node_fields() const
+  {
+    return {};
+  }
+
+  CycleWear
+  WearLaw::cycle_wear(const CycleSliding &sliding)
+  {
+    analyse_cycle(sliding);
+    const unsigned int n_nodes = sliding.n_nodes();
+    CycleWear          wear;
+    wear.depth.assign(n_nodes, 0.);
+    wear.slip.assign(n_nodes, 0.);
+    for (unsigned int i = 0; i < sliding.n_intervals(); ++i)
+      {
+        std::vector<double> depth(n_nodes), slip(n_nodes);
+        for (unsigned int j = 0; j < n_nodes; ++j)
+          {
+            depth[j] = interval_depth(sliding, i, j);
+            slip[j]  = sliding.interval(i).slip_distance(j);
+            wear.depth[j] += depth[j];
+            wear.slip[j] += slip[j];
+          }
+        wear.interval_depth.push_back(std::move(depth));
+        wear.interval_slip.push_back(std::move(slip));
+      }
+    wear.fields = node_fields();
+    return wear;
+  }
+
+  std::unique_ptr<WearLaw>
+  create_wear_law(const Parameters::Wear &parameters)
+  {
+    switch (parameters.law)
+      {
+        case Parameters::WearLawType::archard:
+          return std::make_unique<ArchardWear>(parameters.wear_coefficient);
+      }
+    AssertThrow(false, dealii::ExcNotImplemented());
+    return nullptr;
+  }
+
+  WearMeasures
+  measure_wear(const std::vector<double> &depth,
+               const std::vector<double> &nodal_area,
+               const double               threshold,
+               const double               depth_scale)
+  {
+    AssertDimension(depth.size(), nodal_area.size());
+    WearMeasures measures;
+    for (unsigned int j = 0; j < depth.size(); ++j)
+      {
+        measures.volume += depth[j] * nodal_area[j];
+        measures.max_depth = std::max(measures.max_depth, depth[j]);
+        measures.area += nodal_area[j];
+        if (depth[j] * depth_scale > threshold)
+          measures.worn_area += nodal_area[j];
+      }
+    return measures;
+  }
+} // namespace TKR::Wear
