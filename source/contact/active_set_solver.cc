@@ -203,42 +203,127 @@ namespace TKR::Contact
     return statistics;
   }
 
+  // The sparsity pattern holds the couplings of every node that may
+  // become active, so that the matrix can be reused when the set changes.
+  // The constraint lines that can change are those of the covered slave
+  // nodes; only the cells that hold one are assembled again in each Newton
+  // step (ElasticSystem::assemble_changing_cells()). The multipliers need
+  // the residual only at the slave DoFs.
+  void
+  ActiveSetSolver::setup_system(
+    const Mortar::MortarOperator &B,
+    AffineConstraints<double>    &all_covered_constraints,
+    IndexSet                     &changing_dofs,
+    IndexSet                     &slave_dofs)
+  {
+    const auto        &nodes   = coupling.slave_nodes();
+    const unsigned int n_slave = nodes.size();
+    std::vector<bool>  all_covered(n_slave);
+    for (unsigned int j = 0; j < n_slave; ++j)
+      all_covered[j] = nodes[j].covered;
+    make_constraints(B, all_covered, all_covered_constraints);
+    system.setup(all_covered_constraints);
+    const auto &dofs = B.surface_dofs();
+    for (unsigned int j = 0; j < n_slave; ++j)
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          slave_dofs.add_index(dofs[3 * j + d]);
+          if (nodes[j].covered && !dirichlet.is_constrained(dofs[3 * j + d]))
+            changing_dofs.add_index(dofs[3 * j + d]);
+        }
+    slave_dofs.compress();
+    changing_dofs.compress();
+  }
+
+  // The first Newton step assembles the cells that do not change with the
+  // active set once (@p changing_dofs given), later ones only the others.
+  // The AMG hierarchy of the first iteration stays a good preconditioner
+  // while only some constraint rows change: it is rebuilt only when that
+  // stops being true (@p new_preconditioner).
+  void
+  ActiveSetSolver::assemble_newton_system(
+    const Mapping<3>                &mapping,
+    const Elasticity::BoundaryLoads &loads,
+    const AffineConstraints<double> &constraints,
+    const IndexSet                  *changing_dofs,
+    const AffineConstraints<double> &all_covered_constraints,
+    const bool                       new_preconditioner)
+  {
+    if (changing_dofs)
+      system.assemble_fixed_cells(mapping,
+                                  constraints,
+                                  loads,
+                                  *changing_dofs,
+                                  all_covered_constraints);
+    else
+      system.assemble_changing_cells(mapping, constraints, loads);
+    if (new_preconditioner)
+      system.setup_preconditioner(mapping);
+  }
+
+  // A reused AMG hierarchy may no longer fit: retry with a new one. With a
+  // fresh one, the failure is typically a body held only by contact whose
+  // active set cannot hold it (singular system): add the nodes near the
+  // closest one, within a growing distance, and try again, at most four
+  // times.
+  bool
+  ActiveSetSolver::recover(const bool       fresh_preconditioner,
+                           unsigned int    &n_expansions,
+                           double          &expansion_distance,
+                           ContactState    &state,
+                           ActiveSetUpdate &active_set_update) const
+  {
+    if (!fresh_preconditioner)
+      return true;
+    if (n_expansions == 4)
+      {
+        pcout << "    the linear solver did not converge" << std::endl;
+        return false;
+      }
+    expansion_distance *= 4;
+    ++n_expansions;
+    const auto near = nodes_near_closest(coupling, expansion_distance);
+    for (unsigned int j = 0; j < near.size(); ++j)
+      state.active[j] = state.active[j] || near[j];
+    pcout << "    the linear solver failed (singular?): active set "
+             "widened to the nodes within "
+          << expansion_distance << " mm of the closest" << std::endl;
+    active_set_update.clear_history();
+    return true;
+  }
+
+  void
+  ActiveSetSolver::print_iteration(const unsigned int iteration,
+                                   const unsigned int n_active,
+                                   const unsigned int n_changed,
+                                   const Elasticity::SolverStatistics &linear,
+                                   const double wall_time) const
+  {
+    pcout << "    active set iteration " << std::setw(2) << iteration << ": "
+          << std::setw(6) << n_active << " active, " << std::setw(5)
+          << n_changed << " changed";
+    if (!testing)
+      pcout << ", CG " << linear.iterations << " it., residual "
+            << std::scientific << std::setprecision(1)
+            << linear.relative_residual << std::defaultfloat
+            << std::setprecision(6) << ", " << std::fixed
+            << std::setprecision(2) << wall_time << " s" << std::defaultfloat
+            << std::setprecision(6);
+    pcout << std::endl;
+  }
+
   ContactStatistics
   ActiveSetSolver::solve(const Mapping<3>                &mapping,
                          const Elasticity::BoundaryLoads &loads,
                          const double                     initial_distance,
                          ContactState                    &state)
   {
-    const auto                  &nodes   = coupling.slave_nodes();
-    const unsigned int           n_slave = nodes.size();
     const Mortar::MortarOperator B(coupling);
 
-    // The sparsity pattern holds the couplings of every node that may
-    // become active, so that the matrix can be reused when the set changes.
-    // The constraint lines that can change are those of the covered slave
-    // nodes; only the cells that hold one are assembled again in each
-    // Newton step (LinearElasticity::assemble_changing_cells()). The
-    // multipliers need the residual only at the slave DoFs.
     AffineConstraints<double> all_covered_constraints;
     IndexSet changing_dofs(elasticity.get_dof_handler().n_dofs());
     IndexSet slave_dofs(elasticity.get_dof_handler().n_dofs());
-    {
-      std::vector<bool> all_covered(n_slave);
-      for (unsigned int j = 0; j < n_slave; ++j)
-        all_covered[j] = nodes[j].covered;
-      make_constraints(B, all_covered, all_covered_constraints);
-      system.setup(all_covered_constraints);
-      const auto &dofs = B.surface_dofs();
-      for (unsigned int j = 0; j < n_slave; ++j)
-        for (unsigned int d = 0; d < 3; ++d)
-          {
-            slave_dofs.add_index(dofs[3 * j + d]);
-            if (nodes[j].covered && !dirichlet.is_constrained(dofs[3 * j + d]))
-              changing_dofs.add_index(dofs[3 * j + d]);
-          }
-      slave_dofs.compress();
-      changing_dofs.compress();
-    }
+    setup_system(B, all_covered_constraints, changing_dofs, slave_dofs);
 
     start_state(coupling, initial_distance, state);
 
@@ -258,23 +343,14 @@ namespace TKR::Contact
       {
         Timer iteration_timer;
         make_constraints(B, state.active, constraints);
-        if (iteration == 1)
-          system.assemble_fixed_cells(mapping,
-                                      constraints,
-                                      loads,
-                                      changing_dofs,
-                                      all_covered_constraints);
-        else
-          system.assemble_changing_cells(mapping, constraints, loads);
         const bool fresh_preconditioner = rebuild_preconditioner;
-        // The AMG hierarchy of the first iteration stays a good
-        // preconditioner while only some constraint rows change: it is
-        // rebuilt only when that stops being true (see below).
-        if (rebuild_preconditioner)
-          {
-            system.setup_preconditioner(mapping);
-            rebuild_preconditioner = false;
-          }
+        assemble_newton_system(mapping,
+                               loads,
+                               constraints,
+                               iteration == 1 ? &changing_dofs : nullptr,
+                               all_covered_constraints,
+                               rebuild_preconditioner);
+        rebuild_preconditioner = false;
         unsigned int n_changed = 0;
         const auto   linear    = solve_newton_step(mapping,
                                               loads,
@@ -290,48 +366,22 @@ namespace TKR::Contact
         statistics.relative_residual = linear.relative_residual;
         statistics.newton_iterations = iteration;
 
-        const unsigned int n_active = state.n_active();
-        pcout << "    active set iteration " << std::setw(2) << iteration
-              << ": " << std::setw(6) << n_active << " active, " << std::setw(5)
-              << n_changed << " changed";
-        if (!testing)
-          pcout << ", CG " << linear.iterations << " it., residual "
-                << std::scientific << std::setprecision(1)
-                << linear.relative_residual << std::defaultfloat
-                << std::setprecision(6) << ", " << std::fixed
-                << std::setprecision(2) << iteration_timer.wall_time() << " s"
-                << std::defaultfloat << std::setprecision(6);
-        pcout << std::endl;
+        print_iteration(iteration,
+                        state.n_active(),
+                        n_changed,
+                        linear,
+                        iteration_timer.wall_time());
 
-        if (!linear.converged && !fresh_preconditioner)
-          {
-            // A reused hierarchy may no longer fit: retry with a new one.
-            rebuild_preconditioner = true;
-            continue;
-          }
         if (!linear.converged)
           {
-            // Typically a body held only by contact whose active set cannot
-            // hold it (singular system): add the nodes near the closest one,
-            // within a growing distance, and try again.
-            if (n_expansions < 4)
-              {
-                expansion_distance *= 4;
-                ++n_expansions;
-                const auto near =
-                  nodes_near_closest(coupling, expansion_distance);
-                for (unsigned int j = 0; j < n_slave; ++j)
-                  state.active[j] = state.active[j] || near[j];
-                pcout << "    the linear solver failed (singular?): active set "
-                         "widened to the nodes within "
-                      << expansion_distance << " mm of the closest"
-                      << std::endl;
-                active_set_update.clear_history();
-                rebuild_preconditioner = true;
-                continue;
-              }
-            pcout << "    the linear solver did not converge" << std::endl;
-            break;
+            if (!recover(fresh_preconditioner,
+                         n_expansions,
+                         expansion_distance,
+                         state,
+                         active_set_update))
+              break;
+            rebuild_preconditioner = true;
+            continue;
           }
         if (n_changed == 0)
           {

@@ -307,59 +307,163 @@ namespace TKR::Contact
     return statistics;
   }
 
-  // The Newton iteration on the multipliers, on the contact zone: the
-  // surface values that the rows of covered nodes reference (compact
-  // index k, surface value zone[k]). Per iteration: the columns the
-  // active set needs, z_i = K^{-1} B_i^T on the zone for every active
-  // node i, the dense matrix W_AA = B_A z_A, its Cholesky solve for
-  // lambda_A, then u = u_0 - sum_i lambda_i z_i gives the gaps of all
-  // covered nodes and the next active set.
+  // The contact zone: the surface values that the rows of covered nodes
+  // reference (compact index k, surface value zone[k]), and those rows on
+  // it.
+  CondensedActiveSetSolver::Zone
+  CondensedActiveSetSolver::make_zone(const Mortar::MortarOperator &B,
+                                      const std::vector<double>    &u0) const
+  {
+    const auto        &nodes   = coupling.slave_nodes();
+    const unsigned int n_slave = nodes.size();
+    Zone               zone;
+    for (unsigned int j = 0; j < n_slave; ++j)
+      if (nodes[j].covered)
+        for (auto e = B.begin(j); e != B.end(j); ++e)
+          zone.values.push_back(e->column);
+    auto &values = zone.values;
+    std::sort(values.begin(), values.end());
+    values.erase(std::unique(values.begin(), values.end()), values.end());
+    zone.n_slave =
+      std::lower_bound(values.begin(), values.end(), n_slave_values) -
+      values.begin();
+    zone.rows.resize(n_slave);
+    for (unsigned int j = 0; j < n_slave; ++j)
+      if (nodes[j].covered)
+        for (auto e = B.begin(j); e != B.end(j); ++e)
+          zone.rows[j].push_back(
+            {static_cast<unsigned int>(
+               std::lower_bound(values.begin(), values.end(), e->column) -
+               values.begin()),
+             e->value});
+    zone.u0.resize(values.size());
+    for (unsigned int k = 0; k < values.size(); ++k)
+      zone.u0[k] = u0[values[k]];
+    return zone;
+  }
+
+  double
+  CondensedActiveSetSolver::Zone::apply(const unsigned int         j,
+                                        const std::vector<double> &v) const
+  {
+    double result = 0;
+    for (const auto &e : rows[j])
+      result += e.value * v[e.column];
+    return result;
+  }
+
+  // The columns of the nodes that the rows of the active nodes touch and
+  // that are not stored yet.
+  void
+  CondensedActiveSetSolver::ensure_columns(
+    const Mortar::MortarOperator    &B,
+    const std::vector<unsigned int> &active)
+  {
+    std::vector<unsigned int> needed;
+    for (const unsigned int i : active)
+      for (auto e = B.begin(i); e != B.end(i); ++e)
+        if (node_columns[e->column / 3][e->column % 3].surface.empty())
+          needed.push_back(e->column / 3);
+    std::sort(needed.begin(), needed.end());
+    needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
+    if (!needed.empty())
+      compute_columns(needed);
+  }
+
+  // z_i = sum_c B_ic K^{-1} e_c on the zone: a slave column on the zone's
+  // slave values, a master one on its master values.
+  CondensedActiveSetSolver::Column
+  CondensedActiveSetSolver::zone_column(const Mortar::MortarOperator &B,
+                                        const Zone                   &zone,
+                                        const unsigned int            i) const
+  {
+    const unsigned int n_observations = observation_weights.size();
+    const unsigned int n_zone         = zone.values.size();
+    Column             z;
+    z.surface.assign(n_zone, 0.);
+    z.observations.assign(n_observations, 0.);
+    for (auto e = B.begin(i); e != B.end(i); ++e)
+      {
+        const Column      &column = node_columns[e->column / 3][e->column % 3];
+        const bool         is_slave = e->column < n_slave_values;
+        const unsigned int first    = is_slave ? 0 : zone.n_slave;
+        const unsigned int last     = is_slave ? zone.n_slave : n_zone;
+        const unsigned int offset   = is_slave ? 0 : n_slave_values;
+        for (unsigned int k = first; k < last; ++k)
+          z.surface[k] += e->value * column.surface[zone.values[k] - offset];
+        for (unsigned int o = 0; o < n_observations; ++o)
+          z.observations[o] += e->value * column.observations[o];
+      }
+    return z;
+  }
+
+  // W_AA lambda_A = -g_0,A with g_0 = g - B u_0, by Cholesky; then the
+  // displacement on the zone u = u_0 - sum_i lambda_i z_i gives the
+  // pressures of the active nodes and the gaps of all covered ones.
+  void
+  CondensedActiveSetSolver::newton_step(const Zone                      &zone,
+                                        const std::vector<unsigned int> &active,
+                                        const std::vector<Column>       &z,
+                                        ContactState &state) const
+  {
+    const auto              &nodes    = coupling.slave_nodes();
+    const unsigned int       n_active = active.size();
+    Vector<double>           lambda(n_active);
+    LAPACKFullMatrix<double> W(n_active, n_active);
+    for (unsigned int a = 0; a < n_active; ++a)
+      {
+        const unsigned int j = active[a];
+        lambda(a) = -(nodes[j].weighted_gap - zone.apply(j, zone.u0));
+        for (unsigned int b = 0; b < n_active; ++b)
+          W(a, b) = zone.apply(j, z[active[b]].surface);
+      }
+    if (n_active > 0)
+      {
+        // W is symmetric positive definite in exact arithmetic;
+        // symmetrise the round-off before the Cholesky factorisation.
+        for (unsigned int a = 0; a < n_active; ++a)
+          for (unsigned int b = 0; b < a; ++b)
+            W(a, b) = W(b, a) = 0.5 * (W(a, b) + W(b, a));
+        W.set_property(LAPACKSupport::symmetric);
+        W.compute_cholesky_factorization();
+        W.solve(lambda);
+      }
+    std::vector<double> u_zone = zone.u0;
+    for (unsigned int a = 0; a < n_active; ++a)
+      {
+        const auto &z_i = z[active[a]].surface;
+        for (unsigned int k = 0; k < u_zone.size(); ++k)
+          u_zone[k] -= lambda(a) * z_i[k];
+      }
+    std::fill(state.pressure.begin(), state.pressure.end(), 0.);
+    for (unsigned int a = 0; a < n_active; ++a)
+      state.pressure[active[a]] = lambda(a);
+    for (unsigned int j = 0; j < nodes.size(); ++j)
+      if (nodes[j].covered)
+        state.gap[j] =
+          (nodes[j].weighted_gap - zone.apply(j, u_zone)) / nodes[j].D;
+  }
+
+  // The Newton iteration on the multipliers, on the contact zone
+  // (make_zone()). Per iteration: the columns the active set needs, z_i =
+  // K^{-1} B_i^T on the zone for every active node i, the dense matrix
+  // W_AA = B_A z_A, its Cholesky solve for lambda_A, then u = u_0 - sum_i
+  // lambda_i z_i gives the gaps of all covered nodes and the next active
+  // set (newton_step()).
   ContactStatistics
   CondensedActiveSetSolver::iterate(const std::vector<double> &u0,
                                     const std::vector<double> &u0_observations,
                                     const double               initial_distance,
                                     ContactState              &state)
   {
-    const auto                  &nodes   = coupling.slave_nodes();
-    const unsigned int           n_slave = nodes.size();
+    const unsigned int           n_slave = coupling.slave_nodes().size();
     const Mortar::MortarOperator B(coupling);
-
-    // The zone and the rows of the covered nodes on it.
-    std::vector<unsigned int> zone;
-    for (unsigned int j = 0; j < n_slave; ++j)
-      if (nodes[j].covered)
-        for (auto e = B.begin(j); e != B.end(j); ++e)
-          zone.push_back(e->column);
-    std::sort(zone.begin(), zone.end());
-    zone.erase(std::unique(zone.begin(), zone.end()), zone.end());
-    const unsigned int n_zone_slave =
-      std::lower_bound(zone.begin(), zone.end(), n_slave_values) - zone.begin();
-    std::vector<std::vector<Mortar::MortarOperator::Entry>> rows(n_slave);
-    for (unsigned int j = 0; j < n_slave; ++j)
-      if (nodes[j].covered)
-        for (auto e = B.begin(j); e != B.end(j); ++e)
-          rows[j].push_back(
-            {static_cast<unsigned int>(
-               std::lower_bound(zone.begin(), zone.end(), e->column) -
-               zone.begin()),
-             e->value});
-    const auto apply = [&](const unsigned int j, const std::vector<double> &v) {
-      double result = 0;
-      for (const auto &e : rows[j])
-        result += e.value * v[e.column];
-      return result;
-    };
-    std::vector<double> u0_zone(zone.size());
-    for (unsigned int k = 0; k < zone.size(); ++k)
-      u0_zone[k] = u0[zone[k]];
-
+    const Zone                   zone = make_zone(B, u0);
     start_state(coupling, initial_distance, state);
 
-    ContactStatistics   statistics;
-    ActiveSetUpdate     active_set_update(pcout, slave_youngs_modulus);
-    const unsigned int  n_columns_before = n_stored_columns;
-    const unsigned int  n_observations   = observation_weights.size();
-    std::vector<double> u_zone;
+    ContactStatistics  statistics;
+    ActiveSetUpdate    active_set_update(pcout, slave_youngs_modulus);
+    const unsigned int n_columns_before = n_stored_columns;
     // z_i on the zone for the nodes needed so far in this solve (the
     // geometry, and so B, is fixed within it).
     std::vector<Column> z(n_slave);
@@ -371,90 +475,19 @@ namespace TKR::Contact
         for (unsigned int j = 0; j < n_slave; ++j)
           if (state.active[j])
             active.push_back(j);
-
-        // The columns this active set needs.
-        std::vector<unsigned int> needed;
-        for (const unsigned int i : active)
-          for (auto e = B.begin(i); e != B.end(i); ++e)
-            if (node_columns[e->column / 3][e->column % 3].surface.empty())
-              needed.push_back(e->column / 3);
-        std::sort(needed.begin(), needed.end());
-        needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
-        if (!needed.empty())
-          compute_columns(needed);
-
-        const unsigned int n_active = active.size();
-        Vector<double>     lambda(n_active);
+        ensure_columns(B, active);
         {
           TimerOutput::Scope scope(timer, "condensed Newton step");
           for (const unsigned int i : active)
             if (z[i].surface.empty())
-              {
-                // z_i = sum_c B_ic K^{-1} e_c on the zone: a slave column
-                // on the zone's slave values, a master one on its master
-                // values.
-                z[i].surface.assign(zone.size(), 0.);
-                z[i].observations.assign(n_observations, 0.);
-                for (auto e = B.begin(i); e != B.end(i); ++e)
-                  {
-                    const Column &column =
-                      node_columns[e->column / 3][e->column % 3];
-                    const bool         is_slave = e->column < n_slave_values;
-                    const unsigned int first    = is_slave ? 0 : n_zone_slave;
-                    const unsigned int last =
-                      is_slave ? n_zone_slave : zone.size();
-                    const unsigned int offset = is_slave ? 0 : n_slave_values;
-                    for (unsigned int k = first; k < last; ++k)
-                      z[i].surface[k] +=
-                        e->value * column.surface[zone[k] - offset];
-                    for (unsigned int o = 0; o < n_observations; ++o)
-                      z[i].observations[o] += e->value * column.observations[o];
-                  }
-              }
-
-          // W_AA lambda_A = -g_0,A with g_0 = g - B u_0.
-          LAPACKFullMatrix<double> W(n_active, n_active);
-          for (unsigned int a = 0; a < n_active; ++a)
-            {
-              const unsigned int j = active[a];
-              lambda(a) = -(nodes[j].weighted_gap - apply(j, u0_zone));
-              for (unsigned int b = 0; b < n_active; ++b)
-                W(a, b) = apply(j, z[active[b]].surface);
-            }
-          if (n_active > 0)
-            {
-              // W is symmetric positive definite in exact arithmetic;
-              // symmetrise the round-off before the Cholesky factorisation.
-              for (unsigned int a = 0; a < n_active; ++a)
-                for (unsigned int b = 0; b < a; ++b)
-                  W(a, b) = W(b, a) = 0.5 * (W(a, b) + W(b, a));
-              W.set_property(LAPACKSupport::symmetric);
-              W.compute_cholesky_factorization();
-              W.solve(lambda);
-            }
-
-          // Displacement on the zone, pressures and gaps.
-          u_zone = u0_zone;
-          for (unsigned int a = 0; a < n_active; ++a)
-            {
-              const auto &z_i = z[active[a]].surface;
-              for (unsigned int k = 0; k < zone.size(); ++k)
-                u_zone[k] -= lambda(a) * z_i[k];
-            }
-          std::fill(state.pressure.begin(), state.pressure.end(), 0.);
-          for (unsigned int a = 0; a < n_active; ++a)
-            state.pressure[active[a]] = lambda(a);
-          for (unsigned int j = 0; j < n_slave; ++j)
-            if (nodes[j].covered)
-              state.gap[j] =
-                (nodes[j].weighted_gap - apply(j, u_zone)) / nodes[j].D;
+              z[i] = zone_column(B, zone, i);
+          newton_step(zone, active, z, state);
         }
-
         const unsigned int n_changed =
           active_set_update.count_changes(coupling, state);
         pcout << "    active set iteration " << std::setw(2) << iteration
-              << ": " << std::setw(6) << n_active << " active, " << std::setw(5)
-              << n_changed << " changed" << std::endl;
+              << ": " << std::setw(6) << active.size() << " active, "
+              << std::setw(5) << n_changed << " changed" << std::endl;
         if (n_changed == 0)
           {
             statistics.converged = true;
@@ -462,11 +495,29 @@ namespace TKR::Contact
           }
         active_set_update.update(coupling, state);
       }
+    finish_state(B, u0, u0_observations, z, state);
+    last_state                  = state;
+    statistics.computed_columns = n_stored_columns - n_columns_before;
+    add_contact_results(coupling, state, statistics);
+    return statistics;
+  }
 
-    // The displacement of every slave node (the wear's slip needs it also
-    // away from the zone) and the observed functionals, from the nodes
-    // that carry a multiplier (those of the last Newton step):
-    // u = u_0 - sum_i lambda_i z_i, w . u likewise.
+  // The displacement of every slave node (the wear's slip needs it also
+  // away from the zone) and the observed functionals, from the nodes that
+  // carry a multiplier (those of the last Newton step): u = u_0 - sum_i
+  // lambda_i z_i, w . u likewise. And a bound of the master nodes'
+  // displacement (a coupling window needs it) without computing it:
+  // |u_m| <= sqrt(3) max_r |u_r| and max_r |u_r| <= max_r |u_0,r| + sum_c
+  // |sum_i lambda_i B_ic| peak_c over the master columns c.
+  void
+  CondensedActiveSetSolver::finish_state(
+    const Mortar::MortarOperator &B,
+    const std::vector<double>    &u0,
+    const std::vector<double>    &u0_observations,
+    const std::vector<Column>    &z,
+    ContactState                 &state)
+  {
+    const unsigned int  n_slave = coupling.slave_nodes().size();
     std::vector<double> u_slave(u0.begin(), u0.begin() + n_slave_values);
     observed = u0_observations;
     for (unsigned int i = 0; i < n_slave; ++i)
@@ -487,10 +538,6 @@ namespace TKR::Contact
       for (unsigned int e = 0; e < 3; ++e)
         state.displacement[j][e] = u_slave[3 * j + e];
 
-    // A bound of the master nodes' displacement (a coupling window needs
-    // it) without computing it: |u_m| <= sqrt(3) max_r |u_r| and
-    // max_r |u_r| <= max_r |u_0,r| + sum_c |sum_i lambda_i B_ic| peak_c
-    // over the master columns c.
     double master_bound = 0;
     for (unsigned int r = n_slave_values; r < u0.size(); ++r)
       master_bound = std::max(master_bound, std::abs(u0[r]));
@@ -502,11 +549,7 @@ namespace TKR::Contact
             master_loads[e->column] += state.pressure[i] * e->value;
     for (const auto &[c, load] : master_loads)
       master_bound += std::abs(load) * node_columns[c / 3][c % 3].peak;
-    state.master_displacement   = std::sqrt(3.) * master_bound;
-    last_state                  = state;
-    statistics.computed_columns = n_stored_columns - n_columns_before;
-    add_contact_results(coupling, state, statistics);
-    return statistics;
+    state.master_displacement = std::sqrt(3.) * master_bound;
   }
 
   TrilinosWrappers::MPI::Vector

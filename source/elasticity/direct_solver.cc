@@ -14,6 +14,8 @@
 #include <algorithm>
 #include <climits>
 #include <cstdlib>
+#include <functional>
+#include <memory>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -189,6 +191,36 @@ namespace TKR::Elasticity
     Factorization(const Factorization &) = delete;
     Factorization &
     operator=(const Factorization &) = delete;
+
+    /** The upper triangles of all ranks' rows, on every rank. */
+    struct Entries
+    {
+      /** Per row of all_rows: its columns j >= i and their values. */
+      std::vector<long long> columns;
+      std::vector<double>    values;
+      /** Per row of all_rows: how many entries it has. */
+      std::vector<int> counts;
+    };
+
+    /** Gather the upper triangle of @p K and the row layout. */
+    Entries
+    gather(const Epetra_CrsMatrix &K);
+
+    /** The lower triangle in CHOLMOD's compressed columns. */
+    std::unique_ptr<cholmod_sparse, std::function<void(cholmod_sparse *)>>
+    lower_triangle(const Entries &entries);
+
+    /** Order and factorise @p lower; refuse a singular matrix. */
+    void
+    factorise(cholmod_sparse *lower);
+
+    /** All right-hand sides of @p B into B_full, on every rank. */
+    void
+    gather_right_hand_sides(const Epetra_MultiVector &B);
+
+    /** Solve the columns [first, last) of B_full; the buffers used. */
+    SolveBuffers &
+    solve_columns(const Index first, const Index last);
   };
 
   DirectSolver::DirectSolver()                         = default;
@@ -209,17 +241,25 @@ namespace TKR::Elasticity
     auto f          = std::make_unique<Factorization>();
     f->blas_threads = blas_threads();
     ScopedBlasThreads threads(f->blas_threads);
+    const auto        entries = f->gather(A.trilinos_matrix());
+    const auto        lower   = f->lower_triangle(entries);
+    f->factorise(lower.get());
+    matrix        = &A;
+    factorization = std::move(f);
+  }
 
-    const Epetra_CrsMatrix &K       = A.trilinos_matrix();
-    const Epetra_BlockMap  &rows    = K.RowMap();
-    const Epetra_BlockMap  &columns = K.ColMap();
-    f->communicator                 = communicator_of(rows);
-    int n_ranks, rank;
-    MPI_Comm_size(f->communicator, &n_ranks);
-    MPI_Comm_rank(f->communicator, &rank);
-    f->n_ranks = n_ranks;
-    f->rank    = rank;
-    f->n       = K.NumGlobalRows64();
+  DirectSolver::Factorization::Entries
+  DirectSolver::Factorization::gather(const Epetra_CrsMatrix &K)
+  {
+    const Epetra_BlockMap &rows    = K.RowMap();
+    const Epetra_BlockMap &columns = K.ColMap();
+    communicator                   = communicator_of(rows);
+    int n_all, my_rank;
+    MPI_Comm_size(communicator, &n_all);
+    MPI_Comm_rank(communicator, &my_rank);
+    n_ranks = n_all;
+    rank    = my_rank;
+    n       = K.NumGlobalRows64();
 
     std::vector<long long> my_rows(K.NumMyRows()), my_columns;
     std::vector<int>       my_counts(K.NumMyRows());
@@ -242,64 +282,65 @@ namespace TKR::Elasticity
               }
           }
       }
-    f->all_rows                   = all_gather(my_rows, f->communicator);
-    const std::vector<int> counts = all_gather(my_counts, f->communicator);
-    const std::vector<long long> all_columns =
-      all_gather(my_columns, f->communicator);
-    const std::vector<double> all_values =
-      all_gather(my_values, f->communicator);
-    f->row_counts.resize(n_ranks);
+    Entries entries;
+    all_rows        = all_gather(my_rows, communicator);
+    entries.counts  = all_gather(my_counts, communicator);
+    entries.columns = all_gather(my_columns, communicator);
+    entries.values  = all_gather(my_values, communicator);
+    row_counts.resize(n_ranks);
     const int n_local = my_rows.size();
     MPI_Allgather(&n_local,
                   1,
                   MPI_INT,
-                  f->row_counts.data(),
+                  row_counts.data(),
                   1,
                   MPI_INT,
-                  f->communicator);
-    f->row_offsets = offsets_of(f->row_counts);
-    AssertThrow(static_cast<Index>(f->all_rows.size()) == f->n,
+                  communicator);
+    row_offsets = offsets_of(row_counts);
+    AssertThrow(static_cast<Index>(all_rows.size()) == n,
                 dealii::ExcMessage("The matrix rows are not a partition."));
+    return entries;
+  }
 
-    // Compressed columns, the rows of each column sorted.
-    const auto free_sparse = [f = f.get()](cholmod_sparse *S) {
-      cholmod_l_free_sparse(&S, &f->common);
-    };
-    std::unique_ptr<cholmod_sparse, decltype(free_sparse)> lower(
-      cholmod_l_allocate_sparse(f->n,
-                                f->n,
-                                all_values.size(),
-                                /*sorted=*/true,
-                                /*packed=*/true,
-                                /*stype=*/-1,
-                                CHOLMOD_REAL,
-                                &f->common),
-      free_sparse);
+  // Compressed columns, the rows of each column sorted.
+  std::unique_ptr<cholmod_sparse, std::function<void(cholmod_sparse *)>>
+  DirectSolver::Factorization::lower_triangle(const Entries &entries)
+  {
+    std::unique_ptr<cholmod_sparse, std::function<void(cholmod_sparse *)>>
+      lower(cholmod_l_allocate_sparse(n,
+                                      n,
+                                      entries.values.size(),
+                                      /*sorted=*/true,
+                                      /*packed=*/true,
+                                      /*stype=*/-1,
+                                      CHOLMOD_REAL,
+                                      &common),
+            [this](cholmod_sparse *S) { cholmod_l_free_sparse(&S, &common); });
     AssertThrow(lower != nullptr,
                 ExcInputError("CHOLMOD could not allocate the matrix (out of "
                               "memory?)."));
     auto                    *column_start = static_cast<Index *>(lower->p);
     auto                    *row_index    = static_cast<Index *>(lower->i);
     auto                    *value        = static_cast<double *>(lower->x);
-    std::vector<std::size_t> first_entry(f->n, 0);
-    std::vector<int>         n_entries(f->n, -1);
-    for (std::size_t r = 0, entry = 0; r < f->all_rows.size(); ++r)
+    std::vector<std::size_t> first_entry(n, 0);
+    std::vector<int>         n_entries(n, -1);
+    for (std::size_t r = 0, entry = 0; r < all_rows.size(); ++r)
       {
-        const long long i = f->all_rows[r];
-        AssertThrow(i >= 0 && i < f->n && n_entries[i] < 0,
+        const long long i = all_rows[r];
+        AssertThrow(i >= 0 && i < n && n_entries[i] < 0,
                     dealii::ExcMessage("The matrix rows are not a partition."));
         first_entry[i] = entry;
-        n_entries[i]   = counts[r];
-        entry += counts[r];
+        n_entries[i]   = entries.counts[r];
+        entry += entries.counts[r];
       }
     column_start[0] = 0;
     std::vector<std::pair<long long, double>> column;
-    for (Index i = 0; i < f->n; ++i)
+    for (Index i = 0; i < n; ++i)
       {
         column.clear();
         for (int k = 0; k < n_entries[i]; ++k)
-          column.emplace_back(all_columns[first_entry[i] + k],
-                              all_values[first_entry[i] + k]);
+          column.emplace_back(entries.columns[first_entry[i] + k],
+                              entries.values[first_entry[i] + k]);
         std::sort(column.begin(), column.end());
         Index p = column_start[i];
         for (const auto &[j, a] : column)
@@ -310,31 +351,35 @@ namespace TKR::Elasticity
           }
         column_start[i + 1] = p;
       }
+    return lower;
+  }
 
-    f->L = cholmod_l_analyze(lower.get(), &f->common);
-    AssertThrow(f->L != nullptr,
+  void
+  DirectSolver::Factorization::factorise(cholmod_sparse *lower)
+  {
+    L = cholmod_l_analyze(lower, &common);
+    AssertThrow(L != nullptr,
                 ExcInputError("CHOLMOD could not order the stiffness matrix "
                               "(status " +
-                              std::to_string(f->common.status) + ")."));
-    cholmod_l_factorize(lower.get(), f->L, &f->common);
-    AssertThrow(f->common.status != CHOLMOD_NOT_POSDEF &&
-                  static_cast<Index>(f->L->minor) == f->n,
-                ExcInputError(
-                  "The stiffness matrix is singular or not positive definite "
-                  "(CHOLMOD: pivot " +
-                  std::to_string(f->L->minor) + " of " + std::to_string(f->n) +
-                  "): a body can move as a rigid body. Check the Dirichlet "
-                  "surfaces and the springs."));
-    AssertThrow(f->common.status >= CHOLMOD_OK,
+                              std::to_string(common.status) + ")."));
+    cholmod_l_factorize(lower, L, &common);
+    AssertThrow(
+      common.status != CHOLMOD_NOT_POSDEF && static_cast<Index>(L->minor) == n,
+      ExcInputError("The stiffness matrix is singular or not positive definite "
+                    "(CHOLMOD: pivot " +
+                    std::to_string(L->minor) + " of " + std::to_string(n) +
+                    "): a body can move as a rigid body. Check the Dirichlet "
+                    "surfaces and the springs."));
+    AssertThrow(common.status >= CHOLMOD_OK,
                 ExcInputError("CHOLMOD could not factorise the stiffness "
                               "matrix (status " +
-                              std::to_string(f->common.status) +
+                              std::to_string(common.status) +
                               "; out of memory?)."));
     // A rigid-body mode in floating point need not give a negative pivot,
     // only one at round-off level: (min L_ii / max L_ii)^2 about 1e-16.
     // The gait stiffness matrices of the TKR meshes have 1e-6 (coarse
     // 1.2e-6, medium 3.4e-6).
-    const double rcond = cholmod_l_rcond(f->L, &f->common);
+    const double rcond = cholmod_l_rcond(L, &common);
     AssertThrow(rcond > 1e-14,
                 ExcInputError(
                   "The stiffness matrix is singular (CHOLMOD's reciprocal "
@@ -342,8 +387,6 @@ namespace TKR::Elasticity
                   format_number(rcond) +
                   "): a body can move as a rigid body. Check the Dirichlet "
                   "surfaces and the springs."));
-    matrix        = &A;
-    factorization = std::move(f);
   }
 
   // All ranks get all right-hand sides; rank r solves the columns
@@ -360,69 +403,12 @@ namespace TKR::Elasticity
                 dealii::ExcMessage("X and B must have the matrix's row map "
                                    "and the same number of columns."));
     const Index m = B.NumVectors(), n = f.n;
-    f.B_full.resize(n * m);
+    f.gather_right_hand_sides(B);
     const long long *my_rows = f.all_rows.data() + f.row_offsets[f.rank];
     const int        n_local = f.row_counts[f.rank];
-
-    if (f.n_ranks == 1)
-      for (Index c = 0; c < m; ++c)
-        for (int i = 0; i < n_local; ++i)
-          f.B_full[c * n + my_rows[i]] = B[c][i];
-    else
-      {
-        // Rank by rank, column by column, the local rows.
-        std::vector<double> mine(n_local * m);
-        for (Index c = 0; c < m; ++c)
-          std::copy(B[c], B[c] + n_local, mine.begin() + c * n_local);
-        const std::vector<double> all = all_gather(mine, f.communicator);
-        for (unsigned int r = 0, start = 0; r < f.n_ranks; ++r)
-          {
-            const long long *rows = f.all_rows.data() + f.row_offsets[r];
-            for (Index c = 0; c < m; ++c)
-              for (int i = 0; i < f.row_counts[r]; ++i)
-                f.B_full[c * n + rows[i]] =
-                  all[start + c * f.row_counts[r] + i];
-            start += f.row_counts[r] * m;
-          }
-      }
-
-    const Index first = m * f.rank / f.n_ranks,
-                last  = m * (f.rank + 1) / f.n_ranks;
-    Factorization::SolveBuffers &buffers =
-      (last - first == 1) ? f.single : f.batch;
-    if (last > first)
-      {
-        // BLAS threads only for many columns: with a few, the supernodal
-        // solve is a sequence of matrix-vector products, bound by memory
-        // bandwidth, and threads only cost synchronisation (one right-hand
-        // side on the medium TKR mesh: 30-37 ms with one thread, 37-92 ms
-        // with two; doc/performance.md).
-        ScopedBlasThreads threads(last - first >= 8  ? f.blas_threads :
-                                  f.blas_threads > 0 ? 1 :
-                                                       0);
-        // A header for this rank's columns of B_full (CHOLMOD only reads B).
-        cholmod_dense B_mine;
-        B_mine.nrow  = n;
-        B_mine.ncol  = last - first;
-        B_mine.nzmax = n * (last - first);
-        B_mine.d     = n;
-        B_mine.x     = f.B_full.data() + first * n;
-        B_mine.z     = nullptr;
-        B_mine.xtype = CHOLMOD_REAL;
-        B_mine.dtype = CHOLMOD_DOUBLE;
-        const int ok = cholmod_l_solve2(CHOLMOD_A,
-                                        f.L,
-                                        &B_mine,
-                                        nullptr,
-                                        &buffers.X,
-                                        nullptr,
-                                        &buffers.Y,
-                                        &buffers.E,
-                                        &f.common);
-        AssertThrow(ok != 0,
-                    dealii::ExcMessage("CHOLMOD solve failed (status " +
-                                       std::to_string(f.common.status) + ")."));
-      }
+    const Index      first   = m * f.rank / f.n_ranks,
+                last         = m * (f.rank + 1) / f.n_ranks;
+    const Factorization::SolveBuffers &buffers = f.solve_columns(first, last);
 
     if (f.n_ranks == 1)
       {
@@ -441,6 +427,76 @@ namespace TKR::Elasticity
     for (Index c = 0; c < m; ++c)
       for (int i = 0; i < n_local; ++i)
         X[c][i] = all[c * n + my_rows[i]];
+  }
+
+  void
+  DirectSolver::Factorization::gather_right_hand_sides(
+    const Epetra_MultiVector &B)
+  {
+    const Index m = B.NumVectors();
+    B_full.resize(n * m);
+    const long long *my_rows = all_rows.data() + row_offsets[rank];
+    const int        n_local = row_counts[rank];
+    if (n_ranks == 1)
+      {
+        for (Index c = 0; c < m; ++c)
+          for (int i = 0; i < n_local; ++i)
+            B_full[c * n + my_rows[i]] = B[c][i];
+        return;
+      }
+    // Rank by rank, column by column, the local rows.
+    std::vector<double> mine(n_local * m);
+    for (Index c = 0; c < m; ++c)
+      std::copy(B[c], B[c] + n_local, mine.begin() + c * n_local);
+    const std::vector<double> all = all_gather(mine, communicator);
+    for (unsigned int r = 0, start = 0; r < n_ranks; ++r)
+      {
+        const long long *rows = all_rows.data() + row_offsets[r];
+        for (Index c = 0; c < m; ++c)
+          for (int i = 0; i < row_counts[r]; ++i)
+            B_full[c * n + rows[i]] = all[start + c * row_counts[r] + i];
+        start += row_counts[r] * m;
+      }
+  }
+
+  DirectSolver::Factorization::SolveBuffers &
+  DirectSolver::Factorization::solve_columns(const Index first,
+                                             const Index last)
+  {
+    SolveBuffers &buffers = (last - first == 1) ? single : batch;
+    if (last <= first)
+      return buffers;
+    // BLAS threads only for many columns: with a few, the supernodal
+    // solve is a sequence of matrix-vector products, bound by memory
+    // bandwidth, and threads only cost synchronisation (one right-hand
+    // side on the medium TKR mesh: 30-37 ms with one thread, 37-92 ms
+    // with two; doc/performance.md).
+    ScopedBlasThreads threads(last - first >= 8 ? blas_threads :
+                              blas_threads > 0  ? 1 :
+                                                  0);
+    // A header for this rank's columns of B_full (CHOLMOD only reads B).
+    cholmod_dense B_mine;
+    B_mine.nrow  = n;
+    B_mine.ncol  = last - first;
+    B_mine.nzmax = n * (last - first);
+    B_mine.d     = n;
+    B_mine.x     = B_full.data() + first * n;
+    B_mine.z     = nullptr;
+    B_mine.xtype = CHOLMOD_REAL;
+    B_mine.dtype = CHOLMOD_DOUBLE;
+    const int ok = cholmod_l_solve2(CHOLMOD_A,
+                                    L,
+                                    &B_mine,
+                                    nullptr,
+                                    &buffers.X,
+                                    nullptr,
+                                    &buffers.Y,
+                                    &buffers.E,
+                                    &common);
+    AssertThrow(ok != 0,
+                dealii::ExcMessage("CHOLMOD solve failed (status " +
+                                   std::to_string(common.status) + ")."));
+    return buffers;
   }
 
   const Epetra_Map &

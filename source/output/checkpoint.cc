@@ -165,6 +165,153 @@ namespace TKR::Output
     return state;
   }
 
+  namespace
+  {
+    void
+    write_counters(HDF5::File &file, const Wear::WearRunState &state)
+    {
+      file.set_attribute("block", state.block);
+      file.set_attribute("cycles", state.cycles);
+      file.set_attribute("cycles_per_block", state.cycles_per_block);
+      file.set_attribute("stiffness_block", state.stiffness_block);
+      file.set_attribute("volume", state.volume);
+      file.set_attribute("contact_solves", double(state.contact_solves));
+      file.set_attribute("newton_iterations", double(state.newton_iterations));
+      file.set_attribute("steps", double(state.steps));
+      file.set_attribute("converged", state.converged);
+      file.set_attribute("max_pressure", state.max_pressure);
+      file.set_attribute("first_cycle_mass", state.first_cycle_mass);
+      file.set_attribute("wall_time", state.wall_time);
+      file.set_attribute("n_vertices",
+                         static_cast<unsigned int>(state.depth.size()));
+      file.set_attribute("n_steps",
+                         static_cast<unsigned int>(state.step_starts.size()));
+    }
+
+    void
+    read_counters(const HDF5::File &file, Wear::WearRunState &state)
+    {
+      state.block            = file.get_attribute<unsigned int>("block");
+      state.cycles           = file.get_attribute<double>("cycles");
+      state.cycles_per_block = file.get_attribute<double>("cycles_per_block");
+      state.stiffness_block =
+        file.get_attribute<unsigned int>("stiffness_block");
+      state.volume = file.get_attribute<double>("volume");
+      state.contact_solves =
+        std::llround(file.get_attribute<double>("contact_solves"));
+      state.newton_iterations =
+        std::llround(file.get_attribute<double>("newton_iterations"));
+      state.steps        = std::llround(file.get_attribute<double>("steps"));
+      state.converged    = file.get_attribute<bool>("converged");
+      state.max_pressure = file.get_attribute<double>("max_pressure");
+      state.first_cycle_mass = file.get_attribute<double>("first_cycle_mass");
+      state.wall_time        = file.get_attribute<double>("wall_time");
+    }
+
+    // Warm starts: the pose (the protocol's numbers, opaque here) and the
+    // active set of every step.
+    void
+    write_step_starts(HDF5::File                         &file,
+                      const std::vector<Gait::StepStart> &starts)
+    {
+      const hsize_t n_steps   = starts.size();
+      const hsize_t n_nodes   = n_steps > 0 ? starts[0].active.size() : 0;
+      const hsize_t pose_size = n_steps > 0 ? starts[0].pose.values.size() : 0;
+      file.set_attribute("pose_size", static_cast<unsigned int>(pose_size));
+      std::vector<double>       poses;
+      std::vector<unsigned int> active;
+      for (const auto &start : starts)
+        {
+          const auto &p = start.pose.values;
+          AssertThrow(p.size() == pose_size,
+                      ExcMessage("Poses of different sizes."));
+          poses.insert(poses.end(), p.begin(), p.end());
+          AssertThrow(start.active.size() == n_nodes,
+                      ExcMessage("Active sets of different sizes."));
+          active.insert(active.end(), start.active.begin(), start.active.end());
+        }
+      write_dataset(file, "step_pose", poses, {n_steps, pose_size});
+      write_dataset(file, "step_active", active, {n_steps, n_nodes});
+    }
+
+    std::vector<Gait::StepStart>
+    read_step_starts(const HDF5::File &file, const unsigned int n_steps)
+    {
+      const auto poses  = read_dataset<double>(file, "step_pose");
+      const auto active = read_dataset<unsigned int>(file, "step_active");
+      const unsigned int n_nodes = n_steps > 0 ? active.size() / n_steps : 0;
+      const unsigned int pose_size =
+        file.get_attribute<unsigned int>("pose_size");
+      std::vector<Gait::StepStart> starts(n_steps);
+      for (unsigned int s = 0; s < n_steps; ++s)
+        {
+          starts[s].pose.values.assign(poses.begin() + s * pose_size,
+                                       poses.begin() + (s + 1) * pose_size);
+          starts[s].active.assign(active.begin() + s * n_nodes,
+                                  active.begin() + (s + 1) * n_nodes);
+        }
+      return starts;
+    }
+
+    void
+    write_history(HDF5::File &file, const std::vector<Wear::BlockResult> &rows)
+    {
+      std::vector<double> history;
+      for (const auto &r : rows)
+        history.insert(history.end(),
+                       {double(r.block),
+                        r.cycles,
+                        r.volume,
+                        r.mass,
+                        r.max_depth,
+                        r.wear_area_percent,
+                        r.peak_pressure,
+                        r.max_contact_area,
+                        r.wall_time});
+      write_dataset(file, "history", history, {rows.size(), n_history_columns});
+    }
+
+    std::vector<Wear::BlockResult>
+    read_history(const HDF5::File &file)
+    {
+      std::vector<Wear::BlockResult> rows;
+      const auto history = read_dataset<double>(file, "history");
+      for (unsigned int i = 0; i + n_history_columns <= history.size();
+           i += n_history_columns)
+        {
+          const double *h = &history[i];
+          rows.push_back({static_cast<unsigned int>(h[0]),
+                          h[1],
+                          h[2],
+                          h[3],
+                          h[4],
+                          h[5],
+                          h[6],
+                          h[7],
+                          h[8]});
+        }
+      return rows;
+    }
+
+    /** The checkpoint was written by this format and these parameters. */
+    void
+    check_origin(const HDF5::File                &file,
+                 const std::string               &filename,
+                 const Parameters::AllParameters &parameters)
+    {
+      const auto version = file.get_attribute<unsigned int>("format_version");
+      AssertThrow(version == format_version,
+                  ExcInputError("The checkpoint <" + filename +
+                                "> was written by another version of "
+                                "tkr-wear (checkpoint format " +
+                                std::to_string(version) + ", this one reads " +
+                                std::to_string(format_version) + ")."));
+      check_parameters(filename,
+                       from_text(file.get_attribute<std::string>("parameters")),
+                       state_parameters(parameters));
+    }
+  } // namespace
+
   void
   write_checkpoint(const std::string               &directory,
                    const Wear::WearRunState        &state,
@@ -179,25 +326,7 @@ namespace TKR::Output
           file.set_attribute("format_version", format_version);
           file.set_attribute("parameters",
                              to_text(state_parameters(parameters)));
-          file.set_attribute("block", state.block);
-          file.set_attribute("cycles", state.cycles);
-          file.set_attribute("cycles_per_block", state.cycles_per_block);
-          file.set_attribute("stiffness_block", state.stiffness_block);
-          file.set_attribute("volume", state.volume);
-          file.set_attribute("contact_solves", double(state.contact_solves));
-          file.set_attribute("newton_iterations",
-                             double(state.newton_iterations));
-          file.set_attribute("steps", double(state.steps));
-          file.set_attribute("converged", state.converged);
-          file.set_attribute("max_pressure", state.max_pressure);
-          file.set_attribute("first_cycle_mass", state.first_cycle_mass);
-          file.set_attribute("wall_time", state.wall_time);
-          file.set_attribute("n_vertices",
-                             static_cast<unsigned int>(state.depth.size()));
-          file.set_attribute("n_steps",
-                             static_cast<unsigned int>(
-                               state.step_starts.size()));
-
+          write_counters(file, state);
           const hsize_t n_vertices = state.depth.size();
           write_dataset(file,
                         "displacement",
@@ -208,48 +337,8 @@ namespace TKR::Output
                         flatten(state.stiffness_displacement),
                         {n_vertices, 3});
           write_dataset(file, "depth", state.depth, {n_vertices});
-
-          // Warm starts: the pose (the protocol's numbers, opaque here)
-          // and the active set of every step.
-          const hsize_t n_steps = state.step_starts.size();
-          const hsize_t n_nodes =
-            n_steps > 0 ? state.step_starts[0].active.size() : 0;
-          const hsize_t pose_size =
-            n_steps > 0 ? state.step_starts[0].pose.values.size() : 0;
-          file.set_attribute("pose_size", static_cast<unsigned int>(pose_size));
-          std::vector<double>       poses;
-          std::vector<unsigned int> active;
-          for (const auto &start : state.step_starts)
-            {
-              const auto &p = start.pose.values;
-              AssertThrow(p.size() == pose_size,
-                          ExcMessage("Poses of different sizes."));
-              poses.insert(poses.end(), p.begin(), p.end());
-              AssertThrow(start.active.size() == n_nodes,
-                          ExcMessage("Active sets of different sizes."));
-              active.insert(active.end(),
-                            start.active.begin(),
-                            start.active.end());
-            }
-          write_dataset(file, "step_pose", poses, {n_steps, pose_size});
-          write_dataset(file, "step_active", active, {n_steps, n_nodes});
-
-          std::vector<double> history;
-          for (const auto &r : state.history)
-            history.insert(history.end(),
-                           {double(r.block),
-                            r.cycles,
-                            r.volume,
-                            r.mass,
-                            r.max_depth,
-                            r.wear_area_percent,
-                            r.peak_pressure,
-                            r.max_contact_area,
-                            r.wall_time});
-          write_dataset(file,
-                        "history",
-                        history,
-                        {state.history.size(), n_history_columns});
+          write_step_starts(file, state.step_starts);
+          write_history(file, state.history);
         }
         AssertThrow(std::rename(temporary.c_str(),
                                 checkpoint_file(directory).c_str()) == 0,
@@ -275,78 +364,21 @@ namespace TKR::Output
     try
       {
         HDF5::File file(filename, HDF5::File::FileAccessMode::open);
+        check_origin(file, filename, parameters);
         AssertThrow(
-          file.get_attribute<unsigned int>("format_version") == format_version,
-          ExcInputError(
-            "The checkpoint <" + filename +
-            "> was written by another version of "
-            "tkr-wear (checkpoint format " +
-            std::to_string(file.get_attribute<unsigned int>("format_version")) +
-            ", this one reads " + std::to_string(format_version) + ")."));
-        check_parameters(filename,
-                         from_text(
-                           file.get_attribute<std::string>("parameters")),
-                         state_parameters(parameters));
-        AssertThrow(
-          file.get_attribute<unsigned int>("format_version") ==
-              format_version &&
-            file.get_attribute<unsigned int>("n_vertices") == n_vertices &&
+          file.get_attribute<unsigned int>("n_vertices") == n_vertices &&
             file.get_attribute<unsigned int>("n_steps") == n_steps,
           ExcInputError("The checkpoint <" + filename +
                         "> belongs to another mesh or gait (vertices, steps "
                         "per cycle) than the parameter file."));
-        state.block            = file.get_attribute<unsigned int>("block");
-        state.cycles           = file.get_attribute<double>("cycles");
-        state.cycles_per_block = file.get_attribute<double>("cycles_per_block");
-        state.stiffness_block =
-          file.get_attribute<unsigned int>("stiffness_block");
-        state.volume = file.get_attribute<double>("volume");
-        state.contact_solves =
-          std::llround(file.get_attribute<double>("contact_solves"));
-        state.newton_iterations =
-          std::llround(file.get_attribute<double>("newton_iterations"));
-        state.steps        = std::llround(file.get_attribute<double>("steps"));
-        state.converged    = file.get_attribute<bool>("converged");
-        state.max_pressure = file.get_attribute<double>("max_pressure");
-        state.first_cycle_mass = file.get_attribute<double>("first_cycle_mass");
-        state.wall_time        = file.get_attribute<double>("wall_time");
-
+        read_counters(file, state);
         state.displacement =
           unflatten(read_dataset<double>(file, "displacement"));
         state.stiffness_displacement =
           unflatten(read_dataset<double>(file, "stiffness_displacement"));
-        state.depth = read_dataset<double>(file, "depth");
-
-        const auto poses  = read_dataset<double>(file, "step_pose");
-        const auto active = read_dataset<unsigned int>(file, "step_active");
-        const unsigned int n_nodes = n_steps > 0 ? active.size() / n_steps : 0;
-        const unsigned int pose_size =
-          file.get_attribute<unsigned int>("pose_size");
-        state.step_starts.resize(n_steps);
-        for (unsigned int s = 0; s < n_steps; ++s)
-          {
-            auto &start = state.step_starts[s];
-            start.pose.values.assign(poses.begin() + s * pose_size,
-                                     poses.begin() + (s + 1) * pose_size);
-            start.active.assign(active.begin() + s * n_nodes,
-                                active.begin() + (s + 1) * n_nodes);
-          }
-
-        const auto history = read_dataset<double>(file, "history");
-        for (unsigned int i = 0; i + n_history_columns <= history.size();
-             i += n_history_columns)
-          {
-            const double *h = &history[i];
-            state.history.push_back({static_cast<unsigned int>(h[0]),
-                                     h[1],
-                                     h[2],
-                                     h[3],
-                                     h[4],
-                                     h[5],
-                                     h[6],
-                                     h[7],
-                                     h[8]});
-          }
+        state.depth       = read_dataset<double>(file, "depth");
+        state.step_starts = read_step_starts(file, n_steps);
+        state.history     = read_history(file);
       }
     catch (const ExcInputError &)
       {

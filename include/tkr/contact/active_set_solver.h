@@ -114,6 +114,53 @@ namespace TKR::Contact
                       ContactState          &state,
                       unsigned int          &n_changed);
 
+    /**
+     * The sparsity pattern for the constraints of every covered node
+     * (@p all_covered_constraints), the DoFs whose constraint lines change
+     * with the active set and the slave DoFs.
+     */
+    void
+    setup_system(const Mortar::MortarOperator      &B,
+                 dealii::AffineConstraints<double> &all_covered_constraints,
+                 dealii::IndexSet                  &changing_dofs,
+                 dealii::IndexSet                  &slave_dofs);
+
+    /**
+     * The system of a Newton step for @p constraints: the whole split
+     * assembly if @p changing_dofs is given (the first step), else only the
+     * cells with changing DoFs; a new AMG hierarchy if
+     * @p new_preconditioner.
+     */
+    void
+    assemble_newton_system(
+      const dealii::Mapping<3>                &mapping,
+      const Elasticity::BoundaryLoads         &loads,
+      const dealii::AffineConstraints<double> &constraints,
+      const dealii::IndexSet                  *changing_dofs,
+      const dealii::AffineConstraints<double> &all_covered_constraints,
+      const bool                               new_preconditioner);
+
+    /**
+     * After a linear solve that did not converge: true if the Newton step
+     * is to be repeated with a new preconditioner (a reused one failed, or
+     * the active set was widened to the nodes within the growing
+     * @p expansion_distance of the closest one), false to give up.
+     */
+    bool
+    recover(const bool       fresh_preconditioner,
+            unsigned int    &n_expansions,
+            double          &expansion_distance,
+            ContactState    &state,
+            ActiveSetUpdate &active_set_update) const;
+
+    /** The screen line of a Newton iteration. */
+    void
+    print_iteration(const unsigned int                  iteration,
+                    const unsigned int                  n_active,
+                    const unsigned int                  n_changed,
+                    const Elasticity::SolverStatistics &linear,
+                    const double                        wall_time) const;
+
     /** Values of a distributed vector at the surface DoFs, on all ranks. */
     std::vector<double>
     gather(const Mortar::MortarOperator                &B,

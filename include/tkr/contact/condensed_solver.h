@@ -142,6 +142,63 @@ namespace TKR::Contact
             ContactState              &state);
 
     /**
+     * The contact zone of a coupling: the surface values that the rows of
+     * the covered nodes reference, and those rows on them.
+     */
+    struct Zone
+    {
+      /** The surface values of the zone, increasing (slave ones first). */
+      std::vector<unsigned int> values;
+      /** How many of them are slave values. */
+      unsigned int n_slave = 0;
+      /** Per slave node: its row of B on the zone (empty if not covered). */
+      std::vector<std::vector<Mortar::MortarOperator::Entry>> rows;
+      /** u_0 on the zone. */
+      std::vector<double> u0;
+
+      /** Row @p j of B times @p v (values on the zone). */
+      double
+      apply(const unsigned int j, const std::vector<double> &v) const;
+    };
+
+    /** The zone of the current coupling, with @p u0 on it. */
+    Zone
+    make_zone(const Mortar::MortarOperator &B,
+              const std::vector<double>    &u0) const;
+
+    /** Compute the columns that the rows of the @p active nodes need. */
+    void
+    ensure_columns(const Mortar::MortarOperator    &B,
+                   const std::vector<unsigned int> &active);
+
+    /** z_i = K^{-1} B_i^T on the zone, with its observations. */
+    Column
+    zone_column(const Mortar::MortarOperator &B,
+                const Zone                   &zone,
+                const unsigned int            i) const;
+
+    /**
+     * One Newton step for the @p active set: multipliers, pressures and
+     * the gaps of the covered nodes into @p state.
+     */
+    void
+    newton_step(const Zone                      &zone,
+                const std::vector<unsigned int> &active,
+                const std::vector<Column>       &z,
+                ContactState                    &state) const;
+
+    /**
+     * After the iteration: the slave nodes' displacements, the
+     * observations and a bound of the master nodes' displacement.
+     */
+    void
+    finish_state(const Mortar::MortarOperator &B,
+                 const std::vector<double>    &u0,
+                 const std::vector<double>    &u0_observations,
+                 const std::vector<Column>    &z,
+                 ContactState                 &state);
+
+    /**
      * Values of the columns of @p X at the surface DoFs, on all ranks;
      * column c at offset c * surface size. Constrained DoFs are read from
      * their constraints (without the inhomogeneity) unless X is

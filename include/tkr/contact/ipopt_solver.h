@@ -5,6 +5,11 @@
 #define tkr_contact_ipopt_solver_h
 
 #include <tkr/contact/contact_solver.h>
+#include <tkr/contact/ipopt_qp_loader.h>
+#include <tkr/mortar/mortar_operator.h>
+
+#include <memory>
+#include <vector>
 
 namespace TKR::Contact
 {
@@ -63,6 +68,23 @@ namespace TKR::Contact
     }
 
   private:
+    /**
+     * The QP of the contact problem for @p loads on @p mapping; the row of
+     * each covered slave node's inequality in @p row_of_node.
+     */
+    std::unique_ptr<QuadraticProgram>
+    make_program(const dealii::Mapping<3>        &mapping,
+                 const Elasticity::BoundaryLoads &loads,
+                 const Mortar::MortarOperator    &B,
+                 std::vector<unsigned int>       &row_of_node) const;
+
+    /** Pressures, gaps, displacements and active set from Ipopt's result. */
+    void
+    read_state(const QuadraticProgram          &qp,
+               const Mortar::MortarOperator    &B,
+               const std::vector<unsigned int> &row_of_node,
+               ContactState                    &state) const;
+
     /** The displacement of the last solve (ghosted). */
     dealii::TrilinosWrappers::MPI::Vector solution;
   };
