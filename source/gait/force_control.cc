@@ -190,6 +190,16 @@ namespace TKR::Gait
                           inferior_motion(last).rotation_z};
   }
 
+  double
+  ForceControl::load_balance(const StepReport &report) const
+  {
+    const double axial = gait_state(report.input).axial_force;
+    const double bound =
+      parameters.axial_stabilisation_spring * parameters.pose_tolerance +
+      1e-6 * std::abs(axial);
+    return std::abs(report.contact_resultant[2] + axial) / bound;
+  }
+
   std::vector<std::string>
   ForceControl::input_columns() const
   {

@@ -13,7 +13,10 @@
 #include <tkr/geometry/mesh_motion.h>
 #include <tkr/mesh/mesh.h>
 
+#include <array>
 #include <limits>
+#include <map>
+#include <utility>
 
 namespace TKR::Geometry
 {
@@ -24,42 +27,83 @@ namespace TKR::Geometry
     /**
      * The constraints of the extension: every femur DoF and every DoF on
      * tibia_inferior zero, every DoF on tibia_contact the given vertex
-     * displacement (or zero without one).
+     * displacement (or zero without one); then the tibia's other (free)
+     * boundary vertices slide on their surface: u . n = 0 with n the
+     * vertex's normal, averaged over its free faces, one line on its
+     * dominant component. The sides of the insert stay where they are; an
+     * elastic extension with free sides would let them bulge (by a third
+     * of the depth on the TKR insert: test geometry/mesh_motion_01).
      */
     AffineConstraints<double>
     extension_constraints(const DoFHandler<3>             &dof_handler,
                           const std::vector<Tensor<1, 3>> *displacement)
     {
       AffineConstraints<double> constraints;
+      std::map<unsigned int,
+               std::pair<Tensor<1, 3>, std::array<types::global_dof_index, 3>>>
+        sliding;
       for (const auto &cell : dof_handler.active_cell_iterators())
         {
           if (cell->material_id() == Mesh::MaterialIds::femur)
-            for (const auto v : cell->vertex_indices())
-              for (unsigned int c = 0; c < 3; ++c)
-                constraints.add_line(cell->vertex_dof_index(v, c));
+            {
+              for (const auto v : cell->vertex_indices())
+                for (unsigned int c = 0; c < 3; ++c)
+                  constraints.add_line(cell->vertex_dof_index(v, c));
+              continue;
+            }
           for (const auto f : cell->face_indices())
-            if (cell->face(f)->at_boundary() &&
-                (cell->face(f)->boundary_id() ==
-                   Mesh::BoundaryIds::tibia_inferior ||
-                 cell->face(f)->boundary_id() ==
-                   Mesh::BoundaryIds::tibia_contact))
-              {
-                const bool moves = cell->face(f)->boundary_id() ==
-                                     Mesh::BoundaryIds::tibia_contact &&
-                                   displacement;
-                for (const auto v : cell->face(f)->vertex_indices())
-                  for (unsigned int c = 0; c < 3; ++c)
+            {
+              if (!cell->face(f)->at_boundary())
+                continue;
+              const auto id = cell->face(f)->boundary_id();
+              if (id != Mesh::BoundaryIds::tibia_inferior &&
+                  id != Mesh::BoundaryIds::tibia_contact)
+                {
+                  // Area-weighted: the cross product of the diagonals.
+                  const auto         face = cell->face(f);
+                  const Tensor<1, 3> normal =
+                    cross_product_3d(face->vertex(3) - face->vertex(0),
+                                     face->vertex(2) - face->vertex(1));
+                  const double sign =
+                    normal * (face->center() - cell->center()) > 0 ? 1. : -1.;
+                  for (const auto v : face->vertex_indices())
                     {
-                      const auto dof = cell->face(f)->vertex_dof_index(v, c);
-                      if (constraints.is_constrained(dof))
-                        continue;
-                      constraints.add_line(dof);
-                      if (moves)
-                        constraints.set_inhomogeneity(
-                          dof,
-                          (*displacement)[cell->face(f)->vertex_index(v)][c]);
+                      auto &[n, dofs] = sliding[face->vertex_index(v)];
+                      n += sign * normal;
+                      for (unsigned int c = 0; c < 3; ++c)
+                        dofs[c] = face->vertex_dof_index(v, c);
                     }
-              }
+                  continue;
+                }
+              const bool moves =
+                id == Mesh::BoundaryIds::tibia_contact && displacement;
+              for (const auto v : cell->face(f)->vertex_indices())
+                for (unsigned int c = 0; c < 3; ++c)
+                  {
+                    const auto dof = cell->face(f)->vertex_dof_index(v, c);
+                    if (constraints.is_constrained(dof))
+                      continue;
+                    constraints.add_line(dof);
+                    if (moves)
+                      constraints.set_inhomogeneity(
+                        dof,
+                        (*displacement)[cell->face(f)->vertex_index(v)][c]);
+                  }
+            }
+        }
+      for (const auto &[vertex, normal_and_dofs] : sliding)
+        {
+          const auto &[n, dofs] = normal_and_dofs;
+          if (constraints.is_constrained(dofs[0]) || n.norm() == 0.)
+            continue;
+          unsigned int d = 0;
+          for (unsigned int e = 1; e < 3; ++e)
+            if (std::abs(n[e]) > std::abs(n[d]))
+              d = e;
+          constraints.add_line(dofs[d]);
+          for (unsigned int e = 0; e < 3; ++e)
+            if (e != d && n[e] != 0.)
+              constraints.add_entry(dofs[d], dofs[e], -n[e] / n[d]);
         }
       constraints.close();
       return constraints;

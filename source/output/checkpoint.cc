@@ -360,36 +360,47 @@ namespace TKR::Output
                 ExcInputError("--resume: there is no checkpoint <" + filename +
                               "> (Output/Checkpoint interval > 0 writes "
                               "one every that many blocks)."));
+    // Every error is caught while the file is open and thrown after it is
+    // closed: deal.II's HDF5 objects abort the program if they are
+    // destroyed during stack unwinding.
     Wear::WearRunState state;
+    std::string        error;
     try
       {
         HDF5::File file(filename, HDF5::File::FileAccessMode::open);
-        check_origin(file, filename, parameters);
-        AssertThrow(
-          file.get_attribute<unsigned int>("n_vertices") == n_vertices &&
-            file.get_attribute<unsigned int>("n_steps") == n_steps,
-          ExcInputError("The checkpoint <" + filename +
-                        "> belongs to another mesh or gait (vertices, steps "
-                        "per cycle) than the parameter file."));
-        read_counters(file, state);
-        state.displacement =
-          unflatten(read_dataset<double>(file, "displacement"));
-        state.stiffness_displacement =
-          unflatten(read_dataset<double>(file, "stiffness_displacement"));
-        state.depth       = read_dataset<double>(file, "depth");
-        state.step_starts = read_step_starts(file, n_steps);
-        state.history     = read_history(file);
-      }
-    catch (const ExcInputError &)
-      {
-        throw;
+        try
+          {
+            check_origin(file, filename, parameters);
+            AssertThrow(
+              file.get_attribute<unsigned int>("n_vertices") == n_vertices &&
+                file.get_attribute<unsigned int>("n_steps") == n_steps,
+              ExcInputError("The checkpoint <" + filename +
+                            "> belongs to another mesh or gait (vertices, "
+                            "steps per cycle) than the parameter file."));
+            read_counters(file, state);
+            state.displacement =
+              unflatten(read_dataset<double>(file, "displacement"));
+            state.stiffness_displacement =
+              unflatten(read_dataset<double>(file, "stiffness_displacement"));
+            state.depth       = read_dataset<double>(file, "depth");
+            state.step_starts = read_step_starts(file, n_steps);
+            state.history     = read_history(file);
+          }
+        catch (const ExcInputError &exc)
+          {
+            error = exception_message(exc);
+          }
+        catch (const std::exception &exc)
+          {
+            error =
+              "Cannot read the checkpoint <" + filename + ">: " + exc.what();
+          }
       }
     catch (const std::exception &exc)
       {
-        AssertThrow(false,
-                    ExcInputError("Cannot read the checkpoint <" + filename +
-                                  ">: " + exc.what()));
+        error = "Cannot read the checkpoint <" + filename + ">: " + exc.what();
       }
+    AssertThrow(error.empty(), ExcInputError(error));
     AssertThrow(state.depth.size() == n_vertices &&
                   state.displacement.size() == n_vertices,
                 ExcInputError("The checkpoint <" + filename +

@@ -368,6 +368,15 @@ namespace TKR::Parameters
                         "Length of the cylinder along x, mm (the force per "
                         "length is the contact force over it).");
       prm.declare_entry(
+        "Hertz tolerance",
+        "0.05",
+        Patterns::Double(0),
+        "(Analytic solution = hertz ...) The comparison passes when the "
+        "fitted contact radius (half-width) and the fitted peak pressure "
+        "lie within this fraction of Hertz's values; the screen and "
+        "summary.json (hertz_within_tolerance) say whether they do "
+        "(doc/verification.md lists what each mesh reaches).");
+      prm.declare_entry(
         "Cross-check with Ipopt",
         "false",
         Patterns::Bool(),
@@ -391,6 +400,7 @@ namespace TKR::Parameters
                                     AnalyticSolution::none);
       radius                 = prm.get_double("Radius");
       cylinder_length        = prm.get_double("Cylinder length");
+      hertz_tolerance        = prm.get_double("Hertz tolerance");
       cross_check_with_ipopt = prm.get_bool("Cross-check with Ipopt");
     }
     prm.leave_subsection();

@@ -316,6 +316,20 @@ namespace TKR::Problems
       summary.set("cg_iterations", statistics.cg_iterations);
     if (statistics.computed_columns > 0)
       summary.set("computed_columns", statistics.computed_columns);
+
+    // A tibia held only by contact: the contact must carry the axial force
+    // (the tangential springs act in x and y only).
+    const auto &sc = model.parameters().static_contact;
+    if (sc.tibia_inferior == Parameters::TibiaSupport::loaded &&
+        sc.axial_force != 0.)
+      {
+        const double ratio = -statistics.contact_force[2] / sc.axial_force;
+        model.pcout() << "  force balance: axial contact force / axial force "
+                      << ratio << " (equal to 1e-6: "
+                      << (std::abs(ratio - 1.) < 1e-6 ? "yes" : "no") << ")"
+                      << std::endl;
+        summary.set("axial_force_balance", ratio);
+      }
   }
 
   // Hertz's solution for the computed force, and a fit of Hertz's elliptic
@@ -389,6 +403,13 @@ namespace TKR::Problems
     summary.set("radius_ratio_fitted", fitted.a / exact.a);
     summary.set("radius_ratio_area", area_measure / exact.a);
     summary.set("max_pressure_ratio", statistics.max_pressure / exact.p0);
+    const double tolerance = verification.hertz_tolerance;
+    const bool   within    = std::abs(fitted.a / exact.a - 1.) <= tolerance &&
+                        std::abs(fitted.p0 / exact.p0 - 1.) <= tolerance;
+    model.pcout() << "  fitted " << (is_sphere ? "radius" : "half-width")
+                  << " and peak pressure within " << 100. * tolerance
+                  << " % of Hertz: " << (within ? "yes" : "no") << std::endl;
+    summary.set("hertz_within_tolerance", within);
   }
 
   void

@@ -287,6 +287,7 @@ namespace TKR::Problems
     report.pose_updates      = pose_solve.n_updates;
     report.max_pressure      = stats.max_pressure;
     report.contact_force     = stats.contact_force.norm();
+    report.contact_resultant = stats.contact_force;
     report.contact_area      = stats.contact_area;
     report.converged         = stats.converged && pose_solve.converged;
     report.pose_converged    = pose_solve.converged;

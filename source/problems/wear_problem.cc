@@ -78,8 +78,34 @@ namespace TKR::Problems
     state.steps += reports.size();
     state.converged    = state.converged && n_converged == reports.size();
     state.max_pressure = std::max(state.max_pressure, peak_pressure);
+    check_load_balance();
     if (state.block == 0)
       report_first_cycle();
+  }
+
+  // A converged step out of equilibrium is a result the program cannot
+  // stand behind: it is counted and named, loudly, never silent.
+  void
+  WearProblem::check_load_balance()
+  {
+    const auto &protocol = cycle.get_protocol();
+    const auto &reports  = cycle.get_reports();
+    unbalanced_steps.clear();
+    for (unsigned int s = 0; s < reports.size(); ++s)
+      if (reports[s].converged && !(protocol.load_balance(reports[s]) <= 1.))
+        unbalanced_steps.push_back(s);
+    if (unbalanced_steps.empty())
+      return;
+    state.converged = false;
+    model.pcout() << "Warning: block " << state.block + 1 << ": "
+                  << unbalanced_steps.size()
+                  << " converged step(s) fail the load balance ("
+                  << protocol.load_balance_text() << "), e.g. step "
+                  << unbalanced_steps[0] << " by "
+                  << protocol.load_balance(reports[unbalanced_steps[0]])
+                  << " times what the tolerances allow. The run will exit "
+                     "with 1."
+                  << std::endl;
   }
 
   // The first cycle (on the unworn insert) is reported in full, per
@@ -128,7 +154,11 @@ namespace TKR::Problems
                   << ", converged: " << n_converged
                   << ", contact solves: " << n_solves
                   << ", Newton iterations per step: "
-                  << double(n_newton) / reports.size() << std::endl;
+                  << double(n_newton) / reports.size() << std::endl
+                  << "  load balance ("
+                  << cycle.get_protocol().load_balance_text()
+                  << ") in every converged step: "
+                  << (unbalanced_steps.empty() ? "yes" : "no") << std::endl;
     state.first_cycle_mass = mass;
   }
 

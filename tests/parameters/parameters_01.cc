@@ -410,6 +410,11 @@ namespace
                               [](const P &p) {
                                 return num(p.verification.cylinder_length);
                               }},
+                             {"Verification/Hertz tolerance",
+                              "0.02",
+                              [](const P &p) {
+                                return num(p.verification.hertz_tolerance);
+                              }},
                              {"Verification/Radius",
                               "25",
                               [](const P

@@ -2,7 +2,9 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 # compare-files.sh RESULTS_DIR REFERENCE_PREFIX FILE...
 # Compare each FILE written into RESULTS_DIR by a test run with the stored
-# REFERENCE_PREFIX.FILE by numdiff, with a relative tolerance of 1e-6 (and
+# REFERENCE_PREFIX.FILE (or REFERENCE_PREFIX/FILE if REFERENCE_PREFIX is a
+# directory: the files of another run) by numdiff, with a relative
+# tolerance of 1e-6 (and
 # an absolute one of 1e-12 for numbers that should be zero). Unlike the
 # screen comparison of deal.II's tests (absolute 1e-6), this sees the small
 # numbers of summary.json and the CSV files (a wear volume of 1e-5 mm^3).
@@ -12,15 +14,17 @@ prefix=$2
 shift 2
 status=0
 for file in "$@"; do
+  reference="$prefix.$file"
+  [ -d "$prefix" ] && reference="$prefix/$file"
   if [ ! -f "$dir/$file" ]; then
     echo "compare-files: the run did not write $dir/$file"
     status=1
     continue
   fi
   if ! numdiff -q -a 1e-12 -r 1e-6 -s ' \t\n=,:;<>[](){}^"' \
-      "$dir/$file" "$prefix.$file" >/dev/null; then
-    echo "compare-files: $file differs from $prefix.$file:"
-    numdiff -a 1e-12 -r 1e-6 -s ' \t\n=,:;<>[](){}^"' "$dir/$file" "$prefix.$file" | head -40
+      "$dir/$file" "$reference" >/dev/null; then
+    echo "compare-files: $file differs from $reference:"
+    numdiff -a 1e-12 -r 1e-6 -s ' \t\n=,:;<>[](){}^"' "$dir/$file" "$reference" | head -40
     status=1
   else
     echo "compare-files: $file ok"

@@ -6,7 +6,8 @@
 # directory, kill it with SIGKILL as soon as the checkpoint after block 2
 # is written, resume it with `tkr-wear --resume` on 2 ranks and compare
 # wear_history.csv and steps.csv with the uninterrupted run's references
-# (REFERENCE_PREFIX.<file>).
+# (REFERENCE_PREFIX.<file>). Then a resume with another Wear coefficient
+# must be refused with a message that names the entry.
 set -u
 exe=$1
 mpiexec=$2
@@ -41,3 +42,16 @@ if ! "$mpiexec" -np 2 "$exe" --resume "$prm" > resumed.log 2>&1; then
 fi
 grep "Resumed from" resumed.log || { echo "restart_test: not resumed"; exit 1; }
 "$here/compare-files.sh" results "$reference" wear_history.csv steps.csv
+
+# The checkpoint records the parameters that determine the wear state: a
+# resume with another wear coefficient must be refused, naming the entry.
+cp "$prm" changed.prm
+printf 'subsection Wear\n  set Wear coefficient = 3e-7\nend\n' >> changed.prm
+if "$exe" --resume changed.prm > refused.log 2>&1; then
+  echo "restart_test: --resume with another Wear coefficient was not refused"
+  exit 1
+fi
+grep -q "was written with Wear/Wear coefficient = 2e-7, but the parameter file sets 3e-7" refused.log ||
+  { echo "restart_test: unexpected message:"; cat refused.log; exit 1; }
+echo "restart_test: --resume with another Wear coefficient refused:"
+cat refused.log

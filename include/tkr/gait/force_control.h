@@ -75,6 +75,22 @@ namespace TKR::Gait
            const Observations &last,
            StepReport         &report) const override;
 
+    /**
+     * |F_z + F_axial| over its bound: the contact alone carries the axial
+     * force (the restraints act in the tray's plane); the axial
+     * stabilisation spring, whose force is below its stiffness times the
+     * pose tolerance once the pose has converged, and the contact solver's
+     * tolerance bound the difference.
+     */
+    double
+    load_balance(const StepReport &report) const override;
+
+    std::string
+    load_balance_text() const override
+    {
+      return "axial force carried by the contact";
+    }
+
     std::vector<std::string>
     input_columns() const override;
 

@@ -161,6 +161,19 @@ namespace TKR::Gait
            const Observations &last,
            StepReport         &report) const = 0;
 
+    /**
+     * The step's equilibrium as the protocol can check it from @p report,
+     * in units of what its tolerances allow: at most 1 for a step that is
+     * in equilibrium (e.g. under force control, the axial force carried by
+     * the contact).
+     */
+    virtual double
+    load_balance(const StepReport &report) const = 0;
+
+    /** What load_balance() checks, for the screen ("axial force"). */
+    virtual std::string
+    load_balance_text() const = 0;
+
     /** Names (with units) of StepInput::values, e.g. for steps.csv. */
     virtual std::vector<std::string>
     input_columns() const = 0;

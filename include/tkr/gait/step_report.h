@@ -4,6 +4,8 @@
 #ifndef tkr_gait_step_report_h
 #define tkr_gait_step_report_h
 
+#include <deal.II/base/tensor.h>
+
 #include <boost/serialization/vector.hpp>
 
 #include <vector>
@@ -69,6 +71,8 @@ namespace TKR::Gait
     unsigned int active_nodes = 0, newton_iterations = 0, pose_updates = 0;
     /** Peak pressure (MPa), contact force (N) and area (mm^2). */
     double max_pressure = 0, contact_force = 0, contact_area = 0;
+    /** The resultant of the contact forces on the tibia (N). */
+    dealii::Tensor<1, 3> contact_resultant;
     /** The contact solves and the pose solve converged. */
     bool converged = false;
     /** The pose solve reached its tolerance. */
@@ -82,6 +86,7 @@ namespace TKR::Gait
       archive &input &pose                     &pose_values;
       archive &active_nodes &newton_iterations &pose_updates;
       archive &max_pressure &contact_force     &contact_area;
+      archive                                  &contact_resultant;
       archive &converged &pose_converged       &wall_time;
     }
   };

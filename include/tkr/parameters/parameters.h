@@ -321,6 +321,11 @@ namespace TKR::Parameters
     double radius;
     /** Length of the cylinder (mm), for the force per length. */
     double cylinder_length;
+    /**
+     * The band (relative) within which the fitted contact radius and peak
+     * pressure must lie around Hertz's values for the comparison to pass.
+     */
+    double hertz_tolerance;
     /** Solve again with Ipopt and report the differences. */
     bool cross_check_with_ipopt;
 

@@ -73,6 +73,13 @@ namespace TKR::Problems
     void
     compute_wear();
 
+    /**
+     * The protocol's load balance of every converged step of the cycle;
+     * a step that fails it makes the run fail, with a warning.
+     */
+    void
+    check_load_balance();
+
     /** The screen report of the first cycle (on the unworn insert). */
     void
     report_first_cycle();
@@ -130,6 +137,8 @@ namespace TKR::Problems
      * and wear area are measured on them.
      */
     std::vector<double> block_areas;
+    /** The converged steps of the last cycle that failed the balance. */
+    std::vector<unsigned int> unbalanced_steps;
     /** The block's statistics: peak pressure, largest contact area. */
     double                             peak_pressure = 0, max_contact_area = 0;
     std::unique_ptr<Output::VtuSeries> worn_series;
