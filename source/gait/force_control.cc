@@ -32,7 +32,7 @@ namespace TKR::Gait
   ForceControl::ForceControl(const Parameters::Gait &parameters,
                              const InferiorSurface  &surface)
     : parameters(parameters)
-    , waveform(parameters.waveform_file, channels)
+    , table(parameters.waveform_file, channels)
     , gait_loads(parameters, surface)
     , tibia_pose(parameters, gait_loads)
   {}
@@ -87,7 +87,7 @@ namespace TKR::Gait
   {
     StepInput input;
     input.percent = percent - 100. * std::floor(percent / 100.);
-    input.values  = waveform.at(percent);
+    input.values  = table.at(percent);
     return input;
   }
 

@@ -31,7 +31,13 @@ namespace TKR::Problems
     const auto &parameters = model.parameters();
     const auto &pcout      = model.pcout();
     protocol = Gait::create_protocol(parameters.gait, model.triangulation());
-    pcout << protocol->setup_text() << std::endl;
+    const std::string &file = protocol->waveform().file();
+    pcout << "Waveform <"
+          << (parameters.output.testing ? file.substr(file.rfind('/') + 1) :
+                                          file)
+          << ">: " << protocol->waveform().n_rows() << " rows, "
+          << protocol->description() << std::endl
+          << protocol->setup_text() << std::endl;
 
     const auto &dof_handler = model.elasticity().get_dof_handler();
     pcout << "Degrees of freedom: " << dof_handler.n_dofs()

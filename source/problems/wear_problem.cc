@@ -426,7 +426,7 @@ namespace TKR::Problems
   {
     const auto &parameters = model.parameters();
     const auto &wear       = parameters.wear;
-    model.start("ISO 14243-1 gait cycle and Archard wear");
+    model.start("knee-simulator wear test");
     AssertThrow(parameters.mesh.fe_degree == 1,
                 ExcInputError(
                   "Problem = wear needs Finite element degree = 1."));

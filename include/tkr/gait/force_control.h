@@ -37,12 +37,24 @@ namespace TKR::Gait
     }
 
     std::string
+    description() const override
+    {
+      return "ISO 14243-1 force control";
+    }
+
+    std::string
     setup_text() const override;
 
     void
     add_constraints(const dealii::DoFHandler<3>       &dof_handler,
                     dealii::AffineConstraints<double> &constraints,
                     const dealii::ConditionalOStream  &pcout) const override;
+
+    const Waveform &
+    waveform() const override
+    {
+      return table;
+    }
 
     Elasticity::BoundaryLoads
     springs() const override;
@@ -121,7 +133,7 @@ namespace TKR::Gait
 
   private:
     const Parameters::Gait parameters;
-    const Waveform         waveform;
+    const Waveform         table;
     const GaitLoads        gait_loads;
     const TibiaPose        tibia_pose;
   };

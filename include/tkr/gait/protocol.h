@@ -85,6 +85,10 @@ namespace TKR::Gait
     virtual std::string
     name() const = 0;
 
+    /** What the protocol is, for the screen ("ISO 14243-1 force control"). */
+    virtual std::string
+    description() const = 0;
+
     /**
      * What the protocol measured and chose when it was made (e.g. the
      * tibia's inferior surface), one line for the screen.
@@ -100,6 +104,10 @@ namespace TKR::Gait
     add_constraints(const dealii::DoFHandler<3>       &dof_handler,
                     dealii::AffineConstraints<double> &constraints,
                     const dealii::ConditionalOStream  &pcout) const = 0;
+
+    /** The waveform the protocol's inputs come from. */
+    virtual const Waveform &
+    waveform() const = 0;
 
     /** The springs of every step (they go into the stiffness matrix). */
     virtual Elasticity::BoundaryLoads
