@@ -4,7 +4,10 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
 
+#include <tkr/base/exceptions.h>
 #include <tkr/base/mpi.h>
+
+#include <string>
 
 namespace TKR
 {
@@ -18,6 +21,23 @@ namespace TKR
                                    MPI_SUM,
                                    communicator);
     AssertThrowMPI(ierr);
+  }
+
+  void
+  on_root(const std::function<void()> &work, const MPI_Comm communicator)
+  {
+    std::string error;
+    if (dealii::Utilities::MPI::this_mpi_process(communicator) == 0)
+      try
+        {
+          work();
+        }
+      catch (const ExcInputError &exc)
+        {
+          error = exception_message(exc);
+        }
+    error = dealii::Utilities::MPI::broadcast(communicator, error, 0);
+    AssertThrow(error.empty(), ExcInputError(error));
   }
 
   StepGroups::StepGroups(const MPI_Comm world, const unsigned int requested)

@@ -110,11 +110,12 @@ namespace TKR::Gait
     PoseState state;
     if (pose.empty())
       return state;
-    AssertDimension(pose.values.size(), 5);
+    AssertDimension(pose.values.size(), 6);
     for (unsigned int d = 0; d < 3; ++d)
       state.translation[d] = pose.values[d];
     state.restraint_force  = pose.values[3];
     state.restraint_torque = pose.values[4];
+    state.rotation         = pose.values[5];
     return state;
   }
 
@@ -125,7 +126,8 @@ namespace TKR::Gait
                  state.translation[1],
                  state.translation[2],
                  state.restraint_force,
-                 state.restraint_torque}};
+                 state.restraint_torque,
+                 state.rotation}};
   }
 
   InferiorMotion
@@ -146,13 +148,13 @@ namespace TKR::Gait
     return to_pose(state);
   }
 
-  // The tibia only translates: its motion is the pose's translation.
+  // The tibia's pose: a rotation about the IE axis and a translation.
   RelativeMotion
   ForceControl::motion(const StepInput &input, const Pose &pose) const
   {
     RelativeMotion motion;
-    motion.femur             = gait_loads.femur_motion(gait_state(input));
-    motion.tibia.translation = pose_state(pose).translation;
+    motion.femur = gait_loads.femur_motion(gait_state(input));
+    motion.tibia = tibia_pose.motion(pose_state(pose));
     return motion;
   }
 
@@ -177,7 +179,7 @@ namespace TKR::Gait
     };
     const PoseIteration iteration = tibia_pose.iterate(state, contact);
     pose                          = to_pose(state);
-    return {iteration.n_updates, iteration.converged};
+    return {iteration.n_updates, iteration.converged, iteration.residual};
   }
 
   void
@@ -187,7 +189,8 @@ namespace TKR::Gait
   {
     report.pose        = pose;
     report.pose_values = {pose_state(pose).translation[1],
-                          inferior_motion(last).rotation_z};
+                          pose_state(pose).rotation +
+                            inferior_motion(last).rotation_z};
   }
 
   double

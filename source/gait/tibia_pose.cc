@@ -176,7 +176,8 @@ namespace TKR::Gait
   }
 
   // The restraint springs act on pose plus displacement: the pose part,
-  // -S(x) pose, is a traction.
+  // -S(x) pose, is a traction; for the rotation the pose's rigid
+  // displacement is theta w with w = (-dy, dx, 0) about the centroid.
   std::vector<Elasticity::BoundaryLoads>
   TibiaPose::load_basis() const
   {
@@ -191,19 +192,54 @@ namespace TKR::Gait
         };
         basis.push_back(pose);
       }
+    Elasticity::BoundaryLoads ml;
+    ml.tractions[id] = Tensor<1, 3>({1. / gait_loads.inferior_area(), 0., 0.});
+    basis.push_back(ml);
+    Elasticity::BoundaryLoads rotation;
+    rotation.traction_fields[id] =
+      [spring, c = gait_loads.inferior_centroid()](const Point<3> &x) {
+        const Tensor<1, 3> w({-(x[1] - c[1]), x[0] - c[0], 0.});
+        return Tensor<1, 3>(-(spring(x) * w) * numbers::PI / 180.);
+      };
+    basis.push_back(rotation);
     return basis;
   }
 
+  // In the tibia's frame, turned by theta about z against the simulator's:
+  // the AP force F (along the simulator's y) has the components
+  // F (sin theta, cos theta) and the pose translation t those of
+  // R^T t.
   std::vector<double>
   TibiaPose::load_coefficients(const GaitState &gait,
                                const PoseState &pose) const
   {
-    std::vector<double> c = gait_loads.resultants(gait);
-    c[1] += pose.restraint_force;
+    std::vector<double> c     = gait_loads.resultants(gait);
+    const double        theta = pose.rotation * numbers::PI / 180.;
+    const double        cos = std::cos(theta), sin = std::sin(theta);
+    const double        ap_force = c[1] + pose.restraint_force;
+    const Tensor<1, 3> &t        = pose.translation;
+    c[1]                         = ap_force * cos;
     c[2] += pose.restraint_torque;
-    for (unsigned int d = 0; d < 3; ++d)
-      c.push_back(pose.translation[d]);
+    c.push_back(cos * t[0] + sin * t[1]);
+    c.push_back(-sin * t[0] + cos * t[1]);
+    c.push_back(t[2]);
+    c.push_back(ap_force * sin);
+    c.push_back(pose.rotation);
     return c;
+  }
+
+  RigidMotion
+  TibiaPose::motion(const PoseState &pose) const
+  {
+    const double theta = pose.rotation * numbers::PI / 180.;
+    RigidMotion  motion;
+    motion.rotation[0][0] = motion.rotation[1][1] = std::cos(theta);
+    motion.rotation[0][1]                         = -std::sin(theta);
+    motion.rotation[1][0]                         = std::sin(theta);
+    Point<3> c         = gait_loads.inferior_centroid();
+    c[2]               = 0;
+    motion.translation = c - motion.rotation * c + pose.translation;
+    return motion;
   }
 
   Elasticity::BoundaryLoads
@@ -242,13 +278,16 @@ namespace TKR::Gait
   }
 
   // The pose iteration solves r = 0 for the residual
-  //   r = (mean displacement of the inferior surface,
-  //        (F_e - F) / k_beyond, (T_e - T) / k_beyond at the rim),
+  //   r = (mean displacement of the inferior surface, its rotation about
+  //        z at the rim, (F_e - F) / k_beyond, (T_e - T) / k_beyond at the
+  //        rim),
   // where F_e, T_e are the restraints' excess force and torque at the
-  // position reached (pose + mean displacement) and F, T those the solve
-  // assumed: all in mm, r = 0 is the step's equilibrium and every entry is
-  // compared with the pose tolerance. The update is
-  //   pose += lambda P r,  P = diag(1, 1, 1, w_F, w_T),
+  // position reached (pose + mean displacement, pose angle + rotation)
+  // and F, T those the solve assumed: all in mm, r = 0 is the step's
+  // equilibrium and every entry is compared with the pose tolerance. The
+  // elastic displacement is in the tibia's frame: its mean turned by the
+  // pose angle moves the pose's translation. The update is
+  //   pose += lambda P r,  P = diag(1, 1, 1, 1, w_F, w_T),
   // a fixed-point step with two safeguards:
   // - w: on its own, the excess force is the root of G(F) = F - F_e(y(F)),
   //   y(F) the equilibrium position under F, whose slope is 1 inside the
@@ -278,27 +317,33 @@ namespace TKR::Gait
     const double torque_weight =
       parameters.ie_spring_stiffness / parameters.ie_spring_stiffness_beyond;
 
+    // The rotation at the insert's rim (mm per degree).
+    const double rim =
+      0.5 * gait_loads.inferior_surface().width * numbers::PI / 180.;
+
     PoseIteration result;
     double        relaxation = 1.;
-    Tensor<1, 5>  previous_r;
+    Tensor<1, 6>  previous_r;
     for (;;)
       {
         const bool          contact_converged = solve(pose, result.motion);
         const Tensor<1, 3> &mean              = result.motion.mean;
-        const double        position          = pose.translation[1] + mean[1];
-        const double        rotation          = result.motion.rotation_z;
+        const Tensor<1, 3>  moved             = motion(pose).rotation * mean;
+        const double        position          = pose.translation[1] + moved[1];
+        const double        rotation = pose.rotation + result.motion.rotation_z;
         const double        force_change =
           gait_loads.ap_restraint_excess(position) - pose.restraint_force;
         const double torque_change =
           gait_loads.ie_restraint_excess(rotation) - pose.restraint_torque;
-        const Tensor<1, 5> r({mean[0],
+        const Tensor<1, 6> r({mean[0],
                               mean[1],
                               mean[2],
+                              rim * result.motion.rotation_z,
                               force_scale * force_change,
                               torque_scale * torque_change});
-        result.converged = mean.norm() <= parameters.pose_tolerance &&
-                           std::abs(r[3]) <= parameters.pose_tolerance &&
-                           std::abs(r[4]) <= parameters.pose_tolerance;
+        result.residual = std::max(
+          {mean.norm(), std::abs(r[3]), std::abs(r[4]), std::abs(r[5])});
+        result.converged = result.residual <= parameters.pose_tolerance;
         if (!contact_converged || result.converged ||
             result.n_updates + 1 >= max_iterations)
           break;
@@ -320,7 +365,8 @@ namespace TKR::Gait
           std::abs(position) <= parameters.ap_spring_range;
         const bool torque_inside =
           std::abs(rotation) <= parameters.ie_spring_range;
-        pose.translation += relaxation * mean;
+        pose.translation += relaxation * moved;
+        pose.rotation += relaxation * result.motion.rotation_z;
         pose.restraint_force +=
           relaxation * (force_inside ? 1. : force_weight) * force_change;
         pose.restraint_torque +=

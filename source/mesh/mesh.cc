@@ -110,6 +110,28 @@ namespace TKR::Mesh
     return min_det;
   }
 
+  double
+  min_scaled_jacobian(const std::array<Point<3>, 8> &x)
+  {
+    double min_ratio = std::numeric_limits<double>::max();
+    for (unsigned int v = 0; v < 8; ++v)
+      {
+        Tensor<1, 3> edge[3];
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            const unsigned int bit = 1u << d;
+            edge[d]                = x[v | bit] - x[v & ~bit];
+          }
+        const double lengths = edge[0].norm() * edge[1].norm() * edge[2].norm();
+        min_ratio =
+          std::min(min_ratio,
+                   lengths > 0 ?
+                     edge[0] * cross_product_3d(edge[1], edge[2]) / lengths :
+                     0.);
+      }
+    return min_ratio;
+  }
+
   std::string
   boundary_name(const types::boundary_id id)
   {
@@ -310,12 +332,19 @@ namespace TKR::Mesh
             statistics.tibia_volume += volume;
             ++statistics.tibia_cells;
           }
+        std::array<Point<3>, 8> x;
+        for (const auto v : cell->vertex_indices())
+          x[v] = cell->vertex(v);
+        const double quality = min_scaled_jacobian(x);
         for (const auto f : cell->face_indices())
           if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() < 5)
             {
+              const auto id = cell->face(f)->boundary_id();
               fe_face_values.reinit(cell, f);
               for (const double JxW : fe_face_values.get_JxW_values())
-                statistics.boundary_area[cell->face(f)->boundary_id()] += JxW;
+                statistics.boundary_area[id] += JxW;
+              statistics.min_quality[id] =
+                std::min(statistics.min_quality[id], quality);
             }
       }
     return statistics;

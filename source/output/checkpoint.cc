@@ -8,6 +8,7 @@
 #include <deal.II/base/mpi.h>
 
 #include <tkr/base/exceptions.h>
+#include <tkr/base/mpi.h>
 #include <tkr/output/checkpoint.h>
 
 #include <cstdint>
@@ -293,6 +294,39 @@ namespace TKR::Output
       return rows;
     }
 
+    void
+    write_failed_steps(HDF5::File                          &file,
+                       const std::vector<Wear::FailedStep> &failed)
+    {
+      file.set_attribute("n_failed_steps",
+                         static_cast<unsigned int>(failed.size()));
+      std::vector<double> values;
+      for (const auto &f : failed)
+        values.insert(values.end(),
+                      {double(f.block),
+                       double(f.step),
+                       f.pose_residual,
+                       f.contact_converged ? 1. : 0.,
+                       f.load_balance});
+      write_dataset(file, "failed_steps", values, {failed.size(), 5});
+    }
+
+    std::vector<Wear::FailedStep>
+    read_failed_steps(const HDF5::File &file)
+    {
+      std::vector<Wear::FailedStep> failed;
+      if (file.get_attribute<unsigned int>("n_failed_steps") == 0)
+        return failed;
+      const auto values = read_dataset<double>(file, "failed_steps");
+      for (unsigned int i = 0; i + 5 <= values.size(); i += 5)
+        failed.push_back({static_cast<unsigned int>(values[i]),
+                          static_cast<unsigned int>(values[i + 1]),
+                          values[i + 2],
+                          values[i + 3] != 0.,
+                          values[i + 4]});
+      return failed;
+    }
+
     /** The checkpoint was written by this format and these parameters. */
     void
     check_origin(const HDF5::File                &file,
@@ -318,8 +352,8 @@ namespace TKR::Output
                    const Parameters::AllParameters &parameters,
                    const MPI_Comm                   mpi_communicator)
   {
-    if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
-      {
+    on_root(
+      [&]() {
         const std::string temporary = checkpoint_file(directory) + ".tmp";
         {
           HDF5::File file(temporary, HDF5::File::FileAccessMode::create);
@@ -339,14 +373,14 @@ namespace TKR::Output
           write_dataset(file, "depth", state.depth, {n_vertices});
           write_step_starts(file, state.step_starts);
           write_history(file, state.history);
+          write_failed_steps(file, state.failed_steps);
         }
         AssertThrow(std::rename(temporary.c_str(),
                                 checkpoint_file(directory).c_str()) == 0,
                     ExcInputError("Cannot write the checkpoint <" +
                                   checkpoint_file(directory) + ">."));
-      }
-    const int ierr = MPI_Barrier(mpi_communicator);
-    AssertThrowMPI(ierr);
+      },
+      mpi_communicator);
   }
 
   Wear::WearRunState
@@ -382,9 +416,10 @@ namespace TKR::Output
               unflatten(read_dataset<double>(file, "displacement"));
             state.stiffness_displacement =
               unflatten(read_dataset<double>(file, "stiffness_displacement"));
-            state.depth       = read_dataset<double>(file, "depth");
-            state.step_starts = read_step_starts(file, n_steps);
-            state.history     = read_history(file);
+            state.depth        = read_dataset<double>(file, "depth");
+            state.step_starts  = read_step_starts(file, n_steps);
+            state.history      = read_history(file);
+            state.failed_steps = read_failed_steps(file);
           }
         catch (const ExcInputError &exc)
           {

@@ -15,6 +15,7 @@ namespace TKR::Output
               Summary                    &summary,
               const Mesh::MeshStatistics &statistics,
               const std::string          &filename,
+              const double                quality_warning,
               const bool                  testing)
   {
     const std::string file =
@@ -31,6 +32,26 @@ namespace TKR::Output
                                         Mesh::BoundaryIds::tibia_inferior})
       out << "  " << Mesh::boundary_name(id) << ": "
           << statistics.boundary_area[id] << " mm^2" << std::endl;
+    const double tibia_quality =
+      statistics.min_quality[Mesh::BoundaryIds::tibia_contact];
+    const double femur_quality =
+      statistics.min_quality[Mesh::BoundaryIds::femur_contact];
+    out << "  cells at the contact surfaces: smallest scaled Jacobian "
+        << tibia_quality << " (tibia_contact), " << femur_quality
+        << " (femur_contact)" << std::endl;
+    for (const auto &[name, quality] :
+         {std::make_pair("tibia_contact", tibia_quality),
+          std::make_pair("femur_contact", femur_quality)})
+      if (quality < quality_warning)
+        out << "Warning: cells with a face on " << name
+            << " have a scaled Jacobian down to " << quality
+            << ", below the Mesh/Contact cell quality of " << quality_warning
+            << ": nodal contact pressures and the wear depth scatter on "
+               "such cells (doc/geometry.md); mesh the articular surfaces "
+               "with shape-regular hexahedra."
+            << std::endl;
+    summary.set("contact_cell_quality_tibia", tibia_quality);
+    summary.set("contact_cell_quality_femur", femur_quality);
     summary.set("cells", statistics.femur_cells + statistics.tibia_cells);
     summary.set("femur_volume_mm3", statistics.femur_volume);
     summary.set("tibia_volume_mm3", statistics.tibia_volume);

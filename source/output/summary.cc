@@ -2,6 +2,7 @@
 // This file is part of tkr-wear.
 
 #include <tkr/base/exceptions.h>
+#include <tkr/base/mpi.h>
 #include <tkr/output/summary.h>
 
 #include <cmath>
@@ -49,14 +50,38 @@ namespace TKR::Output
     entries.emplace_back(key, json_value);
   }
 
+  namespace
+  {
+    std::string
+    number(const double value)
+    {
+      if (!std::isfinite(value))
+        return "null";
+      std::ostringstream out;
+      out << std::setprecision(12) << value;
+      return out.str();
+    }
+  } // namespace
+
   void
   Summary::set(const std::string &key, const double value)
   {
-    if (!std::isfinite(value))
-      return set_raw(key, "null");
-    std::ostringstream out;
-    out << std::setprecision(12) << value;
-    set_raw(key, out.str());
+    set_raw(key, number(value));
+  }
+
+  void
+  Summary::set(const std::string &key, const std::vector<Record> &records)
+  {
+    std::string json = "[";
+    for (unsigned int r = 0; r < records.size(); ++r)
+      {
+        json += (r > 0 ? ", {" : "{");
+        for (unsigned int i = 0; i < records[r].size(); ++i)
+          json += (i > 0 ? ", " : "") + quote(records[r][i].first) + ": " +
+                  number(records[r][i].second);
+        json += "}";
+      }
+    set_raw(key, json + "]");
   }
 
   void
@@ -109,12 +134,15 @@ namespace TKR::Output
   Summary::write(const std::string &directory,
                  const MPI_Comm     mpi_communicator) const
   {
-    if (dealii::Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
-      return;
-    const std::string filename = directory + "/summary.json";
-    std::ofstream     out(filename);
-    AssertThrow(out.good(), ExcInputError("Cannot write <" + filename + ">."));
-    out << to_json();
+    on_root(
+      [&]() {
+        const std::string filename = directory + "/summary.json";
+        std::ofstream     out(filename);
+        AssertThrow(out.good(),
+                    ExcInputError("Cannot write <" + filename + ">."));
+        out << to_json();
+      },
+      mpi_communicator);
   }
 
   void

@@ -6,6 +6,7 @@
 #include <deal.II/numerics/data_out.h>
 
 #include <tkr/base/exceptions.h>
+#include <tkr/base/mpi.h>
 #include <tkr/mesh/mesh.h>
 #include <tkr/output/solution_output.h>
 #include <tkr/output/wear_output.h>
@@ -19,6 +20,15 @@
 namespace TKR::Output
 {
   using namespace dealii;
+
+  namespace
+  {
+    /** wear_history.csv on this rank (write_wear_history() on rank 0). */
+    void
+    write_history_file(const std::string                    &directory,
+                       const std::vector<Wear::BlockResult> &rows,
+                       const bool                            testing);
+  } // namespace
 
   std::string
   step_line(const unsigned int      step,
@@ -80,31 +90,41 @@ namespace TKR::Output
                      const bool                            testing,
                      const MPI_Comm                        mpi_communicator)
   {
-    if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
-      return;
-    const std::string filename  = directory + "/wear_history.csv";
-    const std::string temporary = filename + ".tmp";
-    {
-      std::ofstream csv(temporary);
-      AssertThrow(csv.good(),
-                  ExcInputError("Cannot write <" + temporary + ">."));
-      csv << "block,cycles,volume_mm3,mass_mg,max_depth_mm,"
-             "wear_area_percent,peak_pressure_MPa,max_contact_area_mm2"
-          << (testing ? "" : ",wall_time_s") << '\n'
-          << std::setprecision(10);
-      for (const auto &r : rows)
-        {
-          csv << r.block << ',' << r.cycles << ',' << r.volume << ',' << r.mass
-              << ',' << r.max_depth << ',' << r.wear_area_percent << ','
-              << r.peak_pressure << ',' << r.max_contact_area;
-          if (!testing)
-            csv << ',' << r.wall_time;
-          csv << '\n';
-        }
-    }
-    AssertThrow(std::rename(temporary.c_str(), filename.c_str()) == 0,
-                ExcInputError("Cannot write <" + filename + ">."));
+    on_root([&]() { write_history_file(directory, rows, testing); },
+            mpi_communicator);
   }
+
+  namespace
+  {
+    void
+    write_history_file(const std::string                    &directory,
+                       const std::vector<Wear::BlockResult> &rows,
+                       const bool                            testing)
+    {
+      const std::string filename  = directory + "/wear_history.csv";
+      const std::string temporary = filename + ".tmp";
+      {
+        std::ofstream csv(temporary);
+        AssertThrow(csv.good(),
+                    ExcInputError("Cannot write <" + temporary + ">."));
+        csv << "block,cycles,volume_mm3,mass_mg,max_depth_mm,"
+               "wear_area_percent,peak_pressure_MPa,max_contact_area_mm2"
+            << (testing ? "" : ",wall_time_s") << '\n'
+            << std::setprecision(10);
+        for (const auto &r : rows)
+          {
+            csv << r.block << ',' << r.cycles << ',' << r.volume << ','
+                << r.mass << ',' << r.max_depth << ',' << r.wear_area_percent
+                << ',' << r.peak_pressure << ',' << r.max_contact_area;
+            if (!testing)
+              csv << ',' << r.wall_time;
+            csv << '\n';
+          }
+      }
+      AssertThrow(std::rename(temporary.c_str(), filename.c_str()) == 0,
+                  ExcInputError("Cannot write <" + filename + ">."));
+    }
+  } // namespace
 
   // The motion field is the displacement in the global frame: the femur's
   // elastic displacement is stored in its co-rotated frame, so its points

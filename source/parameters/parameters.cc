@@ -33,6 +33,16 @@ namespace TKR::Parameters
                         "file that sets it, then from the working "
                         "directory, then from the tkr-wear sources (the "
                         "bundled meshes).");
+      prm.declare_entry(
+        "Contact cell quality",
+        "0.3",
+        Patterns::Double(-1, 1),
+        "Warn when a cell with a face on tibia_contact or femur_contact has "
+        "a smaller scaled Jacobian (the smallest over its corners of the "
+        "determinant of the three edges leaving the corner over the "
+        "product of their lengths: 1 for a cube). Nodal contact pressures "
+        "and wear depths scatter on distorted contact cells "
+        "(doc/geometry.md).");
       prm.declare_entry("Finite element degree",
                         "1",
                         Patterns::Integer(1, 3),
@@ -75,14 +85,15 @@ namespace TKR::Parameters
   {
     prm.enter_subsection("Mesh");
     {
-      file                = prm.get("File");
-      fe_degree           = prm.get_integer("Finite element degree");
-      femur_name          = prm.get("Femur group");
-      tibia_name          = prm.get("Tibia group");
-      femur_contact_name  = prm.get("Femur contact group");
-      femur_fixation_name = prm.get("Femur fixation group");
-      tibia_contact_name  = prm.get("Tibia contact group");
-      tibia_inferior_name = prm.get("Tibia inferior group");
+      file                 = prm.get("File");
+      fe_degree            = prm.get_integer("Finite element degree");
+      contact_cell_quality = prm.get_double("Contact cell quality");
+      femur_name           = prm.get("Femur group");
+      tibia_name           = prm.get("Tibia group");
+      femur_contact_name   = prm.get("Femur contact group");
+      femur_fixation_name  = prm.get("Femur fixation group");
+      tibia_contact_name   = prm.get("Tibia contact group");
+      tibia_inferior_name  = prm.get("Tibia inferior group");
     }
     prm.leave_subsection();
   }
@@ -97,7 +108,8 @@ namespace TKR::Parameters
                 "femur_contact",
                 "femur_fixation",
                 "tibia_contact",
-                "tibia_inferior"};
+                "tibia_inferior",
+                0.3};
   }
 
   void

@@ -223,7 +223,7 @@ namespace TKR::Problems
                               ": no part of tibia_contact faces "
                               "femur_contact within the search "
                               "distance; check the flexion axis point."));
-    if (step == 0 && progress.n_solves == 0)
+    if (check_overlap && step == 0 && progress.n_solves == 0)
       check_initial_overlap();
     ++progress.n_solves;
     const std::vector<double> coefficients =
@@ -297,6 +297,8 @@ namespace TKR::Problems
     report.contact_area      = stats.contact_area;
     report.converged         = stats.converged && pose_solve.converged;
     report.pose_converged    = pose_solve.converged;
+    report.pose_residual     = pose_solve.residual;
+    report.contact_converged = stats.converged;
     report.wall_time         = step_timer.wall_time();
     starts[step] = {pose, state.active, progress.window.face_clearance};
     if (groups.n_groups == 1 && (print || !report.converged))
@@ -312,13 +314,31 @@ namespace TKR::Problems
       saved_steps[step] = {solver->compute_solution(), state, motion};
   }
 
+  // A step may raise an input error (e.g. no contact within the search
+  // distance) in its step group only: the groups agree on it before the
+  // next collective operation, so that every rank stops with the message
+  // instead of some waiting forever for the others.
   bool
-  GaitCycle::solve(const bool print_steps, const bool keep_for_output)
+  GaitCycle::solve(const bool print_steps,
+                   const bool keep_for_output,
+                   const bool initial_geometry)
   {
     const std::vector<unsigned int> steps = groups.own_items(n_steps());
     saved_steps.clear();
-    for (const unsigned int step : steps)
-      solve_step(step, print_steps, keep_for_output);
+    check_overlap = initial_geometry;
+    std::string error;
+    try
+      {
+        for (const unsigned int step : steps)
+          solve_step(step, print_steps, keep_for_output);
+      }
+    catch (const ExcInputError &exc)
+      {
+        error = exception_message(exc);
+      }
+    for (const std::string &message :
+         Utilities::MPI::all_gather(model.world(), error))
+      AssertThrow(message.empty(), ExcInputError(message));
     {
       TimerOutput::Scope scope(model.timer(), "collect steps");
       gather_steps(groups.is_group_root ? steps : std::vector<unsigned int>());

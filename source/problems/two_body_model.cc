@@ -57,6 +57,7 @@ namespace TKR::Problems
                         run_summary,
                         Mesh::compute_statistics(tria),
                         prm.mesh.file,
+                        prm.mesh.contact_cell_quality,
                         prm.output.testing);
     worn_geometry.initialize();
   }

@@ -94,6 +94,15 @@ namespace TKR::Problems
     for (unsigned int s = 0; s < reports.size(); ++s)
       if (reports[s].converged && !(protocol.load_balance(reports[s]) <= 1.))
         unbalanced_steps.push_back(s);
+    for (unsigned int s = 0; s < reports.size(); ++s)
+      if (!reports[s].converged ||
+          std::find(unbalanced_steps.begin(), unbalanced_steps.end(), s) !=
+            unbalanced_steps.end())
+        state.failed_steps.push_back({state.block + 1,
+                                      s,
+                                      reports[s].pose_residual,
+                                      reports[s].contact_converged,
+                                      protocol.load_balance(reports[s])});
     if (unbalanced_steps.empty())
       return;
     state.converged = false;
@@ -408,6 +417,14 @@ namespace TKR::Problems
     summary.set("stiffness_update_interval",
                 parameters.wear.stiffness_update_interval);
     summary.set("step_groups", groups.n_groups);
+    std::vector<Output::Summary::Record> failed;
+    for (const auto &f : state.failed_steps)
+      failed.push_back({{"block", f.block},
+                        {"step", f.step},
+                        {"pose_residual_mm", f.pose_residual},
+                        {"contact_converged", f.contact_converged ? 1. : 0.},
+                        {"load_balance", f.load_balance}});
+    summary.set("unconverged_steps", failed);
     if (output.plots)
       {
         // The summary is written by finish(); the plots read it.
@@ -461,7 +478,7 @@ namespace TKR::Problems
         if (first)
           model.pcout() << "Gait cycle, " << cycle.n_steps()
                         << " steps:" << std::endl;
-        cycle.solve(first, last);
+        cycle.solve(first, last, first);
         compute_wear();
         extrapolate();
         finish_block(block_timer.wall_time());
@@ -476,6 +493,31 @@ namespace TKR::Problems
                     << " contact solves repeated on the whole search distance"
                     << std::endl;
     output_results();
-    return model.finish(state.converged);
+    const bool converged = model.finish(state.converged);
+    if (!converged)
+      report_failure();
+    return converged;
+  }
+
+  // The last line of the screen and of progress.log.
+  void
+  WearProblem::report_failure() const
+  {
+    std::ostringstream line;
+    line << "tkr-wear: " << state.failed_steps.size()
+         << " gait step(s) over the blocks did not converge or failed their "
+            "load balance (summary.json lists them as unconverged_steps, "
+            "the first in block "
+         << (state.failed_steps.empty() ? 0 : state.failed_steps[0].block)
+         << ", step "
+         << (state.failed_steps.empty() ? 0 : state.failed_steps[0].step)
+         << "): these results are not converged, exit code 1.";
+    model.pcout() << line.str() << std::endl;
+    if (Utilities::MPI::this_mpi_process(model.world()) == 0)
+      {
+        std::ofstream log(model.parameters().output.directory + "/progress.log",
+                          std::ios::app);
+        log << line.str() << std::endl;
+      }
   }
 } // namespace TKR::Problems

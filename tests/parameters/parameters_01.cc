@@ -307,6 +307,11 @@ namespace
                               [](const P &p) {
                                 return num(p.linear_solver.tolerance);
                               }},
+                             {"Mesh/Contact cell quality",
+                              "0.2",
+                              [](const P &p) {
+                                return num(p.mesh.contact_cell_quality);
+                              }},
                              {"Mesh/Femur contact group",
                               "fc",
                               [](const P &p) {

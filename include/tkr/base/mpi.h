@@ -6,6 +6,7 @@
 
 #include <mpi.h>
 
+#include <functional>
 #include <vector>
 
 namespace TKR
@@ -17,6 +18,14 @@ namespace TKR
    */
   void
   sum_over_ranks(std::vector<double> &values, const MPI_Comm communicator);
+
+  /**
+   * Run @p work on rank 0 of @p communicator only (e.g. writing a file)
+   * and raise an ExcInputError it raised there on every rank: no rank may
+   * go on to the next collective operation alone while the others stop.
+   */
+  void
+  on_root(const std::function<void()> &work, const MPI_Comm communicator);
 
   /**
    * The split of the ranks of a communicator into groups that share

@@ -53,6 +53,8 @@ namespace TKR::Gait
     unsigned int n_updates = 0;
     /** The pose met its tolerance (and every contact solve converged). */
     bool converged = false;
+    /** The residual of the last solve in the protocol's measure (mm). */
+    double residual = 0;
   };
 
   /**

@@ -76,8 +76,12 @@ namespace TKR::Gait
     /** The contact solves and the pose solve converged. */
     bool converged = false;
     /** The pose solve reached its tolerance. */
-    bool   pose_converged = false;
-    double wall_time      = 0;
+    bool pose_converged = false;
+    /** The pose solve's last residual (mm). */
+    double pose_residual = 0;
+    /** Every contact solve of the step converged. */
+    bool   contact_converged = false;
+    double wall_time         = 0;
 
     template <class Archive>
     void
@@ -88,6 +92,7 @@ namespace TKR::Gait
       archive &max_pressure &contact_force     &contact_area;
       archive                                  &contact_resultant;
       archive &converged &pose_converged       &wall_time;
+      archive &pose_residual                   &contact_converged;
     }
   };
 

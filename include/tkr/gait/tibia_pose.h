@@ -32,15 +32,18 @@ namespace TKR::Gait
   };
 
   /**
-   * Where the pose iteration of a step stands: the tibia's rigid
-   * translation (its pose, mm) and the two-rate restraints' excess force
-   * (N, along y) and torque (N mm, about z). A step starts from zero (cold)
-   * or from the converged state of the same step of the previous cycle
-   * (warm).
+   * Where the pose iteration of a step stands: the tibia's rigid motion
+   * (its pose: the translation of the inferior surface's centroid, mm, in
+   * the simulator's frame, and the rotation about the vertical (IE) axis
+   * through that centroid, deg, positive about +z) and the two-rate
+   * restraints' excess force (N, along the simulator's y) and torque (N mm,
+   * about z). A step starts from zero (cold) or from the converged state
+   * of the same step of the previous cycle (warm).
    */
   struct PoseState
   {
     dealii::Tensor<1, 3> translation;
+    double               rotation         = 0;
     double               restraint_force  = 0;
     double               restraint_torque = 0;
 
@@ -48,7 +51,7 @@ namespace TKR::Gait
     void
     serialize(Archive &archive, const unsigned int)
     {
-      archive &translation &restraint_force &restraint_torque;
+      archive &translation &rotation &restraint_force &restraint_torque;
     }
   };
 
@@ -57,6 +60,12 @@ namespace TKR::Gait
   {
     /** Updates of the pose (contact solves - 1). */
     unsigned int n_updates = 0;
+    /**
+     * The residual of the last solve (mm): the largest of |mean inferior
+     * displacement| and the restraints' scaled changes, to be compared
+     * with the pose tolerance.
+     */
+    double residual = 0;
     /** The pose and the restraints met the pose tolerance. */
     bool converged = false;
     /** The rigid part of the elastic displacement of the last solve. */
@@ -69,14 +78,19 @@ namespace TKR::Gait
    * rigid (tray constraints), it is loaded by the gait's forces and held
    * by the restraint springs.
    *
-   * Under load control the tibia moves by millimetres (AP and ML sliding
-   * in the dishes, rising and sinking with the femur), which a small-
-   * displacement contact model, linearised at the reference position,
-   * cannot follow. So the tibia's reference position carries a rigid
-   * translation (its pose): after a contact solve, the mean displacement of
-   * its inferior surface is added to the pose and the step is solved again
-   * on the moved geometry, until that correction is below the pose
-   * tolerance (iterate()). The springs act on pose plus displacement.
+   * Under load control the tibia moves by millimetres and degrees (AP and
+   * ML sliding in the dishes, rising and sinking with the femur, internal-
+   * external rotation), which a small-displacement contact model,
+   * linearised at the reference position, cannot follow. So the tibia's
+   * reference position carries a rigid motion (its pose: a translation
+   * and a rotation about the vertical axis through the inferior centroid,
+   * finite, in the relative motion of the femur): after a contact solve,
+   * the mean displacement of its inferior surface and its best-fitting
+   * rotation are added to the pose and the step is solved again on the
+   * moved geometry, until that correction is below the pose tolerance
+   * (iterate()). The loads and the springs act in the tibia's frame: the
+   * AP force of the simulator's frame is turned into it, the springs act on
+   * pose plus displacement (the pose part is a traction).
    */
   class TibiaPose
   {
@@ -109,10 +123,13 @@ namespace TKR::Gait
     springs() const;
 
     /**
-     * Six tractions of which every step's are a combination: a unit axial
-     * force, AP force and torque about z (GaitLoads::traction_basis()),
-     * and the spring tractions -S(x) e_d of a unit pose translation in x,
-     * y, z.
+     * Eight tractions of which every step's are a combination (in the
+     * tibia's frame): a unit axial force, AP force (y) and torque about z
+     * (GaitLoads::traction_basis()), the spring tractions -S(x) e_d of a
+     * unit pose translation in x, y, z, a unit force along x distributed
+     * like the AP force (the part of the AP force that the tibia's rotation
+     * turns into its x direction), and the spring traction of a pose
+     * rotation of one degree about the IE axis.
      */
     std::vector<Elasticity::BoundaryLoads>
     load_basis() const;
@@ -120,6 +137,15 @@ namespace TKR::Gait
     /** The coefficients of the tractions of loads() on load_basis(). */
     std::vector<double>
     load_coefficients(const GaitState &gait, const PoseState &pose) const;
+
+    /**
+     * The tibia's rigid motion in @p pose (simulator frame): the rotation
+     * by the pose's IE angle about the vertical axis through the inferior
+     * centroid, then the translation.
+     */
+    RigidMotion
+    motion(const PoseState &pose) const;
+
 
     /**
      * The inferior motion as four linear functionals of the displacement

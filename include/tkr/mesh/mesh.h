@@ -85,6 +85,16 @@ namespace TKR::Mesh
   double
   min_vertex_jacobian(const std::array<dealii::Point<3>, 8> &x);
 
+  /**
+   * The smallest scaled corner Jacobian of a hexahedron with the vertices
+   * @p x (deal.II order): at every corner, the determinant of the three
+   * edges leaving it divided by the product of their lengths (1 for a
+   * cube, 0 for a degenerate corner, negative for an inverted one); the
+   * measure gmsh and meshes/gen/check_msh.py report.
+   */
+  double
+  min_scaled_jacobian(const std::array<dealii::Point<3>, 8> &x);
+
   /** Volumes (mm^3) and face areas (mm^2) of the tagged parts of a mesh. */
   struct MeshStatistics
   {
@@ -93,6 +103,11 @@ namespace TKR::Mesh
     double       boundary_area[5] = {0, 0, 0, 0, 0};
     unsigned int femur_cells = 0, tibia_cells = 0;
     unsigned int n_vertices = 0;
+    /**
+     * Per boundary id: the smallest scaled Jacobian (min_scaled_jacobian())
+     * of the cells with a face on that part (1 if none).
+     */
+    double min_quality[5] = {1, 1, 1, 1, 1};
   };
 
   /** Measure volumes and areas with the bilinear (Q1) geometry. */

@@ -39,6 +39,7 @@ namespace TKR::Output
               Summary                          &summary,
               const Mesh::MeshStatistics       &statistics,
               const std::string                &filename,
+              const double                      quality_warning,
               const bool                        testing);
 
   /**

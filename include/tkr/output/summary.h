@@ -35,6 +35,13 @@ namespace TKR::Output
     void
     set(const std::string &key, const char *value);
 
+    /** One record: named numbers, in their order. */
+    using Record = std::vector<std::pair<std::string, double>>;
+
+    /** A list of records, written as an array of objects. */
+    void
+    set(const std::string &key, const std::vector<Record> &records);
+
     /** The JSON text. */
     std::string
     to_json() const;

@@ -35,6 +35,11 @@ namespace TKR::Parameters
     std::string femur_name, tibia_name;
     std::string femur_contact_name, femur_fixation_name;
     std::string tibia_contact_name, tibia_inferior_name;
+    /**
+     * Warn when a cell with a face on tibia_contact or femur_contact has a
+     * smaller scaled Jacobian than this.
+     */
+    double contact_cell_quality;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);

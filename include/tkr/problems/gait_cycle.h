@@ -67,10 +67,17 @@ namespace TKR::Problems
      * line is printed (as it is done if there is one group, all at the end
      * otherwise); steps that did not converge are always printed. With
      * @p keep_for_output, the steps of the `VTU interval` are kept for
-     * output_steps(). Returns true if every step converged.
+     * output_steps(). With @p initial_geometry (the unworn insert of a
+     * fresh run), the first solve of step 0 checks that the bodies do not
+     * overlap more than the `Overlap tolerance` (a check of the mesh and
+     * the flexion axis; a warm-started worn state carries the elastic
+     * indentation of the block before). An input error in one step group
+     * is raised on every rank. Returns true if every step converged.
      */
     bool
-    solve(const bool print_steps, const bool keep_for_output);
+    solve(const bool print_steps,
+          const bool keep_for_output,
+          const bool initial_geometry);
 
     /** Each step's end state (after solve()), e.g. for a checkpoint. */
     const std::vector<Gait::StepStart> &
@@ -230,6 +237,8 @@ namespace TKR::Problems
     std::vector<Gait::StepReport>           reports;
     std::vector<Gait::StepStart>            starts;
     unsigned int                            window_misses = 0;
+    /** Check the overlap at step 0 in this solve() (initial geometry). */
+    bool check_overlap = false;
 
     /** What the VTU of a step needs (its solution, state and motion). */
     struct SavedStep

@@ -122,6 +122,10 @@ namespace TKR::Problems
     void
     output_results();
 
+    /** The last line of a run that did not converge (and progress.log). */
+    void
+    report_failure() const;
+
     const bool                     resume;
     const StepGroups               groups;
     TwoBodyModel                   model;

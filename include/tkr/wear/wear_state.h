@@ -32,6 +32,19 @@ namespace TKR::Wear
     double wall_time = 0;
   };
 
+  /** A gait step that did not converge (or failed its load balance). */
+  struct FailedStep
+  {
+    /** The block (1, 2, ...) and the step of its cycle. */
+    unsigned int block = 0, step = 0;
+    /** The pose solve's last residual (mm). */
+    double pose_residual = 0;
+    /** Whether the contact solves converged. */
+    bool contact_converged = false;
+    /** The protocol's load balance (at most 1 when balanced). */
+    double load_balance = 0;
+  };
+
   /**
    * Everything the loop over extrapolation blocks (DESIGN.md section 4.7)
    * needs to go on: what a checkpoint holds. Geometry data is stored per
@@ -63,6 +76,8 @@ namespace TKR::Wear
     bool               converged         = true;
     /** Peak pressure over the run (MPa). */
     double max_pressure = 0;
+    /** Every step that did not converge, over all blocks. */
+    std::vector<FailedStep> failed_steps;
     /** Mass loss of the first cycle (mg), on the unworn insert. */
     double first_cycle_mass = 0;
     /** Wall time of the run before this start (s). */
