@@ -35,24 +35,27 @@ def fit_circle(y, z):
     return yc, zc, r, rms
 
 
-def condyle_arc(points, depth, band=1.5, bin_width=1.0):
+def condyle_arc(points, depth, band=1.5):
     """The distal arc of one condyle from its femur_contact nodes: those
-    within @p band mm in x of the condyle's lowest node (the sagittal
-    section through its apex), the lowest of them per bin of y, within
-    @p depth mm of the lowest point."""
+    within @p band mm in x of the condyle's lowest node and within @p depth
+    mm above it.  Their heights are first freed of the frontal (x) shape of
+    the condyle: a parabola in x fitted to the nodes within 3 mm in y of
+    the lowest one; then a circle is fitted to (y, z) of all of them.  (On
+    unstructured meshes, whose nodes do not lie on the apex line, the
+    frontal shape would otherwise lift the off-apex nodes and flatten the
+    arc.)"""
     apex = points[np.argmin(points[:, 2])]
-    points = points[np.abs(points[:, 0] - apex[0]) <= band]
-    y, z = points[:, 1], points[:, 2]
-    bins = np.floor((y - y.min()) / bin_width).astype(int)
-    order = np.lexsort((z, bins))
-    first = np.ones(len(order), bool)
-    first[1:] = bins[order][1:] != bins[order][:-1]
-    lowest = order[first]
-    py, pz = y[lowest], z[lowest]
-    window = pz <= pz.min() + depth
-    if window.sum() < 5:
-        raise ValueError("fewer than 5 profile points within %g mm of the lowest point" % depth)
-    return fit_circle(py[window], pz[window]) + (int(window.sum()),)
+    near = points[(np.abs(points[:, 0] - apex[0]) <= band) & (points[:, 2] <= apex[2] + depth)]
+    x, y, z = near[:, 0] - apex[0], near[:, 1], near[:, 2]
+    middle = np.abs(y - apex[1]) <= 3.0
+    if middle.sum() >= 4 and np.ptp(x[middle]) > 0.2 * band:
+        (c, b, k), *_ = np.linalg.lstsq(np.column_stack([np.ones(middle.sum()), x[middle], x[middle] ** 2]),
+                                         z[middle] - (y[middle] - apex[1]) ** 2 / 1e9, rcond=None)
+        if k > 0:
+            z = z - b * x - k * x ** 2
+    if len(y) < 5:
+        raise ValueError("fewer than 5 nodes within %g mm of the lowest point" % depth)
+    return fit_circle(y, z) + (int(len(y)),)
 
 
 def estimate(nodes, depth=2.0):
