@@ -4,12 +4,29 @@ tibial insert given as STEP (or IGES/BREP) files or closed STL surfaces.
 
     scripts/mesh-implant --femur FEMUR.step --insert INSERT.stl -o knee.msh
 
-Each body is meshed on its own with tetrahedra (gmsh, Delaunay), refined
-towards its articular faces, and every tetrahedron is split into four
-hexahedra (gmsh Mesh.SubdivisionAlgorithm = 2), so the hexahedra are about
-half the requested sizes.  The two bodies never share nodes.  Faces are
-assigned to the physical groups of DESIGN.md section 3 by the rules below
-(printed in a table; override with --*-faces using the face ids of that table):
+Each body is meshed on its own; the two never share nodes.  --method:
+
+  auto (default)   the insert, if it is a flat base with vertical side walls
+                   and an articular top that is a height field over the base
+                   (most fixed-bearing inserts), as structured columns under
+                   an O-grid of square cells (--sweep-size) in plan
+                   (insert_sweep.py); otherwise, and the femoral component
+                   always, as "layer".
+  layer            a layer of prisms under the articular faces (--layers,
+                   --layer-thickness, --layer-ratio) and tetrahedra inside,
+                   each prism split into three hexahedra, each tetrahedron
+                   into four (contact_layer.py).  The articular faces get
+                   --contact-size where they are within --refine-distance of
+                   the other body's articular faces.
+  split            tetrahedra everywhere (refined towards the articular
+                   faces), each split into four hexahedra by gmsh
+                   (Mesh.SubdivisionAlgorithm = 2): the method before issue
+                   18; its nodal contact pressures scatter.
+
+The hexahedra are about half the requested tetrahedron/triangle sizes.
+Faces are assigned to the physical groups of DESIGN.md section 3 by the
+rules below (printed in a table; override with --*-faces using the face ids
+of that table):
 
   insert (tibia)   tibia_inferior: faces with mean outward normal n_z < -0.9
                                    and centroid within 5 % of the height of the
@@ -33,7 +50,10 @@ articular surface and the insert's articular surface (both meshes) is --gap.
 Flexion axis: estimated from the distal arcs of the condyles
 (flexion_axis.py) and written, with the mesh file, into KNEE.prm next to
 KNEE.msh, a ready-to-run parameter file of the wear run (check the axis and
-the medial side, which is a guess).
+the medial side, which is a guess).  KNEE-report.txt next to KNEE.msh
+repeats the options, the method and counts of each body, the smallest scaled
+corner Jacobian of the hexahedra on each articular surface (the "contact
+layer"), the gap and the axis.
 
 Units: STEP/IGES files declare their unit and OpenCASCADE converts them to mm.
 STL has no unit: --units mm (default) or m says what its numbers are.
@@ -51,6 +71,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 
 import blockmesh  # noqa: E402
+import contact_layer  # noqa: E402
+import insert_sweep  # noqa: E402
 import gmsh_hexes  # noqa: E402
 import flexion_axis  # noqa: E402
 
@@ -259,40 +281,102 @@ def print_table(role, path, rows, groups):
 
 
 # ----------------------------------------------------------------- meshing
+class Part:
+    """One body loaded into its own gmsh model (named after its role), with
+    its faces classified into groups."""
+
+    def __init__(self, role, path, args, tmpdir):
+        self.role, self.path = role, path
+        gmsh.model.add(role)
+        self.vol, self.tris = load_geometry(path, args.units, args.feature_angle, tmpdir)
+        self.cad = self.tris is None
+        if not self.cad:
+            # STL: classify from the file's own triangles
+            rows, lo, hi = face_table_stl(self.vol, self.tris)
+        else:
+            # pass 1: coarse tetrahedra to classify the faces
+            gmsh.option.setNumber("Mesh.MeshSizeMax", 2.0 * args.size)
+            gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
+            gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 0)
+            gmsh.model.mesh.generate(3)
+            rows, lo, hi = face_table(self.vol)
+            gmsh.model.mesh.clear()
+        # (an STL's discrete surfaces keep their triangles: clearing them
+        # would delete the geometry)
+        groups = classify(role, rows, lo, hi)
+        names = (("femur_contact", "femur_fixation") if role == "femur" else ("tibia_contact", "tibia_inferior"))
+        for g in names:
+            override = getattr(args, g + "_faces")
+            if override:
+                ids = [int(t) for t in override.split(",") if t.strip()]
+                for s in list(groups):
+                    if groups[s] == g:
+                        groups[s] = None
+                for s in ids:
+                    if s not in rows:
+                        raise SystemExit("error: %s has no face %d" % (path, s))
+                    groups[s] = g
+        print_table(role, path, rows, groups)
+        for g in names:
+            if not any(v == g for v in groups.values()):
+                raise SystemExit("error: no face of %s was assigned to %s; use --%s-faces"
+                                 % (path, g, g.replace("_", "-")))
+        self.groups = groups
+        self.contact = [s for s, g in groups.items() if g in contact_layer.CONTACT_GROUPS]
+        self.method, self.notes = None, []
+
+    def articular_points(self, spacing):
+        """Points on the articular faces, about `spacing` mm apart."""
+        gmsh.model.setCurrent(self.role)
+        if self.cad:
+            gmsh.option.setNumber("Mesh.MeshSizeMax", spacing)
+            gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
+            gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 0)
+            gmsh.model.mesh.generate(2)
+        pts = [gmsh.model.mesh.getNodes(2, s, includeBoundary=True)[1].reshape(-1, 3) for s in self.contact]
+        if self.cad:
+            gmsh.model.mesh.clear()
+        return np.concatenate(pts)
+
+    def mesh(self, args, near):
+        """Pass 2: the hexahedral mesh (nodes, hexes, surfaces).  near:
+        points on the other body's articular faces (for the sizes)."""
+        gmsh.model.setCurrent(self.role)
+        if self.role == "tibia" and args.method == "auto":
+            # structured columns under a plan grid (insert_sweep.py)
+            try:
+                if self.cad:
+                    gmsh.option.setNumber("Mesh.MeshSizeMax", args.sweep_size)
+                    gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
+                    gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 0)
+                    gmsh.model.mesh.generate(2)
+                out = insert_sweep.mesh_insert(self.vol, self.groups, args.sweep_size,
+                                               args.sweep_cells, args.sweep_top_cell, self.cad)
+                self.method = "swept columns"
+                return out
+            except insert_sweep.NotSweepable as e:
+                print("note: the insert cannot be swept (%s); it gets a contact layer instead" % e)
+                self.notes.append("not swept: %s" % e)
+                if self.cad:
+                    gmsh.model.mesh.clear()
+        # a layer of prisms under the articular faces, tetrahedra elsewhere,
+        # all split into hexahedra (contact_layer.py)
+        own = self.articular_points(1.5)
+        gmsh.model.setCurrent(self.role)
+        field = contact_layer.SizeField(own, near if args.refine_distance > 0 else None,
+                                        args.contact_size, args.size, args.grading_distance,
+                                        args.refine_distance, contact_layer.width_caps())
+        self.method = "contact layer"
+        return contact_layer.mesh_body(self.vol, self.groups, field, args.size, args.layers,
+                                       args.layer_thickness, args.layer_ratio, self.cad, self.notes)
+
+
 def mesh_body(role, path, args, tmpdir, linear=False):
-    gmsh.model.add(role)
-    vol, tris = load_geometry(path, args.units, args.feature_angle, tmpdir)
-    if tris is not None:
-        # STL: classify from the file's own triangles
-        rows, lo, hi = face_table_stl(vol, tris)
-    else:
-        # pass 1: coarse tetrahedra to classify the faces
-        gmsh.option.setNumber("Mesh.MeshSizeMax", 2.0 * args.size)
-        gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
-        gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 0)
-        gmsh.model.mesh.generate(3)
-        rows, lo, hi = face_table(vol)
-    groups = classify(role, rows, lo, hi)
-    names = (("femur_contact", "femur_fixation") if role == "femur" else ("tibia_contact", "tibia_inferior"))
-    for g in names:
-        override = getattr(args, g + "_faces")
-        if override:
-            ids = [int(t) for t in override.split(",") if t.strip()]
-            for s in list(groups):
-                if groups[s] == g:
-                    groups[s] = None
-            for s in ids:
-                if s not in rows:
-                    raise SystemExit("error: %s has no face %d" % (path, s))
-                groups[s] = g
-    print_table(role, path, rows, groups)
-    for g in names:
-        if not any(v == g for v in groups.values()):
-            raise SystemExit("error: no face of %s was assigned to %s; use --%s-faces"
-                             % (path, g, g.replace("_", "-")))
+    """--method split: tetrahedra refined towards the articular faces, each
+    split into four hexahedra by gmsh."""
+    part = Part(role, path, args, tmpdir)
+    vol, groups = part.vol, part.groups
     # pass 2: graded tetrahedra, split into hexahedra
-    if tris is None:
-        gmsh.model.mesh.clear()   # (an STL's discrete surfaces must keep their triangles)
     contact = [s for s, g in groups.items() if g in ("femur_contact", "tibia_contact")]
     f = gmsh.model.mesh.field.add("Distance")
     gmsh.model.mesh.field.setNumbers(f, "SurfacesList", contact)
@@ -356,12 +440,31 @@ def main(argv=None):
     ap.add_argument("--insert", required=True, help="tibial insert (.step/.stp/.iges/.brep/.stl)")
     ap.add_argument("-o", "--output", required=True, help="output .msh (ASCII 4.1)")
     ap.add_argument("--units", choices=("mm", "m"), default="mm", help="unit of STL coordinates (default mm)")
+    ap.add_argument("--method", choices=("auto", "layer", "split"), default="auto",
+                    help="auto (default): swept insert where possible, contact layer otherwise; "
+                         "layer: contact layer on both bodies; split: tetrahedra split into hexahedra")
     ap.add_argument("--size", type=float, default=8.0,
                     help="tetrahedron size away from the articular faces, mm (hexahedra are about half)")
-    ap.add_argument("--contact-size", type=float, default=4.0,
-                    help="tetrahedron size at the articular faces, mm")
+    ap.add_argument("--contact-size", type=float,
+                    help="triangle/tetrahedron size at the articular faces, mm "
+                         "(default 3; 4 with --method split)")
     ap.add_argument("--grading-distance", type=float, default=10.0,
-                    help="distance from the articular faces over which the size grows, mm")
+                    help="distance over which the size grows from --contact-size to --size, mm")
+    ap.add_argument("--refine-distance", type=float, default=10.0,
+                    help="layer: --contact-size where the articular faces are within this distance "
+                         "(mm) of the other body's articular faces (in the input position), growing "
+                         "to --size beyond; 0: on all articular faces")
+    ap.add_argument("--layers", type=int, default=2, help="layer: number of cell layers")
+    ap.add_argument("--layer-thickness", type=float, default=1.5, help="layer: total depth, mm")
+    ap.add_argument("--layer-ratio", type=float, default=1.3,
+                    help="layer: thickness ratio of consecutive layers (thinnest at the surface)")
+    ap.add_argument("--sweep-size", type=float, default=2.0,
+                    help="auto, swept insert: plan size of the cells, mm")
+    ap.add_argument("--sweep-cells", type=int, default=6,
+                    help="auto, swept insert: cells through the insert's thickness")
+    ap.add_argument("--sweep-top-cell", type=float, default=1.0,
+                    help="auto, swept insert: thickness of the cells at the articular surface "
+                         "where the insert is thinnest, mm")
     ap.add_argument("--feature-angle", type=float, default=40.0,
                     help="STL: angle (deg) between facets that splits faces")
     ap.add_argument("--offset", help="DX,DY,DZ: translate the femur by this (mm) instead of "
@@ -371,14 +474,32 @@ def main(argv=None):
         ap.add_argument("--" + g.replace("_", "-") + "-faces", dest=g + "_faces",
                         help="comma-separated face ids (see the table) for %s, replacing the rule" % g)
     args = ap.parse_args(argv)
+    if args.contact_size is None:
+        args.contact_size = 4.0 if args.method == "split" else 3.0
 
     gmsh.initialize(["gmsh", "-v", "1"])
     try:
         with tempfile.TemporaryDirectory() as tmpdir:
-            fem = mesh_body_robust("femur", args.femur, args, tmpdir)
-            tib = mesh_body_robust("tibia", args.insert, args, tmpdir)
+            if args.method == "split":
+                fem = mesh_body_robust("femur", args.femur, args, tmpdir)
+                tib = mesh_body_robust("tibia", args.insert, args, tmpdir)
+                methods = {"femur": "split tetrahedra", "tibia": "split tetrahedra"}
+            else:
+                parts = [Part("femur", args.femur, args, tmpdir), Part("tibia", args.insert, args, tmpdir)]
+                near = [p.articular_points(1.5) for p in parts]
+                fem = parts[0].mesh(args, near[1])
+                tib = parts[1].mesh(args, near[0])
+                methods = {p.role: "; ".join([p.method] + p.notes) for p in parts}
     finally:
         gmsh.finalize()
+    report = ["mesh-implant report (meshes/gen/mesh_implant.py)", "",
+              "femur:  %s" % os.path.abspath(args.femur), "insert: %s" % os.path.abspath(args.insert),
+              "options: " + " ".join("--%s %s" % (k.replace("_", "-"), v) for k, v in sorted(vars(args).items())
+                                     if v is not None and k not in ("femur", "insert", "output")), ""]
+
+    def say(line):
+        print(line)
+        report.append(line)
     fn = fem[0].copy()
     if args.offset:
         d = np.array([float(t) for t in args.offset.split(",")])
@@ -386,32 +507,43 @@ def main(argv=None):
             raise SystemExit("error: --offset needs DX,DY,DZ")
         fn += d
         fem = (fn, fem[1], fem[2])
-        print("femur translated by (%g, %g, %g) mm" % tuple(d))
+        say("femur translated by (%g, %g, %g) mm" % tuple(d))
     else:
         g0 = min_vertical_gap(fem, tib)
         fn[:, 2] += args.gap - g0
         fem = (fn, fem[1], fem[2])
-        print("femur moved along z by %+.4f mm to an initial gap of %g mm" % (args.gap - g0, args.gap))
-    print("smallest vertical gap between the articular surfaces: %.4f mm" % min_vertical_gap(fem, tib))
+        say("femur moved along z by %+.4f mm to an initial gap of %g mm" % (args.gap - g0, args.gap))
+    say("smallest vertical gap between the articular surfaces: %.4f mm" % min_vertical_gap(fem, tib))
     blockmesh.write_msh(args.output, {"femur": fem, "tibia": tib}, "mesh-implant")
     s = blockmesh.summary({"femur": fem, "tibia": tib})
     for b in ("femur", "tibia"):
-        print("%s: %d vertices, %d hexahedra, volume %.1f mm^3, min scaled corner Jacobian %.3f, quads %s"
-              % (b, s[b]["vertices"], s[b]["hexahedra"], s[b]["volume"], s[b]["min_quality"], s[b]["quads"]))
-    print("wrote %s (%d Q1 displacement DoFs)" % (args.output, 3 * (s["femur"]["vertices"] + s["tibia"]["vertices"])))
+        say("%s (%s): %d vertices, %d hexahedra, volume %.1f mm^3, min scaled corner Jacobian %.3f, quads %s"
+            % (b, methods[b], s[b]["vertices"], s[b]["hexahedra"], s[b]["volume"], s[b]["min_quality"],
+               s[b]["quads"]))
+    # The quality where the bodies touch: the hexahedra with a face on an
+    # articular surface.
+    for body in (fem, tib):
+        for g, (n, q) in contact_layer.contact_layer_quality(*body).items():
+            say("contact layer %s: %d hexahedra, min scaled corner Jacobian %.3f" % (g, n, q))
+    say("wrote %s (%d Q1 displacement DoFs)" % (args.output, 3 * (s["femur"]["vertices"] + s["tibia"]["vertices"])))
     # The flexion axis, which the CAD does not state: estimated from the
     # distal arcs of the condyles, written with the mesh into a parameter file.
+    rep = os.path.splitext(args.output)[0] + "-report.txt"
     try:
         axis = flexion_axis.estimate(fn[np.unique(fem[2]["femur_contact"])])
     except ValueError as e:
-        print("warning: no flexion axis estimate (%s); set Gait/Flexion axis point yourself" % e)
-        return 0
-    print(flexion_axis.describe(axis))
-    prm = os.path.splitext(args.output)[0] + ".prm"
-    tibia_x = tib[0][np.unique(tib[2]["tibia_contact"]), 0]
-    with open(prm, "w") as f:
-        f.write(flexion_axis.prm_fragment(args.output, axis, float(np.ptp(tibia_x))))
-    print("wrote %s (a parameter file for the wear run: check the flexion axis and the medial side)" % prm)
+        say("warning: no flexion axis estimate (%s); set Gait/Flexion axis point yourself" % e)
+        axis = None
+    if axis is not None:
+        say(flexion_axis.describe(axis))
+        prm = os.path.splitext(args.output)[0] + ".prm"
+        tibia_x = tib[0][np.unique(tib[2]["tibia_contact"]), 0]
+        with open(prm, "w") as f:
+            f.write(flexion_axis.prm_fragment(args.output, axis, float(np.ptp(tibia_x))))
+        say("wrote %s (a parameter file for the wear run: check the flexion axis and the medial side)" % prm)
+    with open(rep, "w") as f:
+        f.write("\n".join(report) + "\n")
+    print("wrote %s" % rep)
     return 0
 
 

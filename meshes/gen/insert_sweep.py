@@ -1,0 +1,338 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""The insert of scripts/mesh-implant as swept hexahedra: structured columns
+under a regular quadrilateral grid (`--method auto`, when the insert allows
+it; doc/geometry.md).
+
+The mortar coupling reads the contact pressure at the insert's (slave)
+nodes. On kite-shaped quadrilaterals (triangles split into three, the
+contact_layer method) or on tetrahedra split into hexahedra, the nodal
+pressures of a conforming contact scatter by some 30 %: the nodes of
+different kinds (a triangle's corners, edge midpoints and centroid) see
+different stencils.  On a structured grid they do not.  Most inserts are
+"2.5-dimensional": a flat base (tibia_inferior), vertical side walls and an
+articular top that is a height field over the base.  Such an insert is
+meshed here like the parametric ones (tkr.py):
+
+1. the base is an O-grid in plan: a rectangle of square cells of the plan
+   size h around the centroid of the base, and four ring blocks out to the
+   base's outline along rays from the centroid (the outline must be
+   star-shaped with respect to it);
+2. every plan node carries a column from the base up to the top, whose
+   height is found by vertical projection onto the CAD faces of the top
+   (Newton iterations with the faces' closest points and normals; on an STL
+   the triangulated surface is the geometry);
+3. the columns have `cells` cells, graded so that the cell at the top is
+   `top_cell` thick where the insert is thinnest.
+
+Every top node lies on the articular surface; the edges where two top faces
+meet (the rims of the dishes) are not aligned with the grid, so the faceted
+top cuts them slightly, as on the parametric meshes.
+"""
+import math
+
+import numpy as np
+
+import blockmesh
+from blockmesh import Body, graded
+
+import gmsh
+
+
+class NotSweepable(Exception):
+    """The insert is not a flat base with vertical walls and a height-field
+    top; the message says which face breaks it."""
+
+
+# ------------------------------------------------------------------ faces
+def boundary_triangles(vol):
+    """{face: (triangles as coordinates (T x 3 x 3), outward normals (T x 3))}
+    of the current 2D mesh of the boundary of volume `vol`, outward by the
+    enclosed volume."""
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    X = np.zeros((int(tags.max()) + 1, 3))
+    X[tags.astype(np.int64)] = coords.reshape(-1, 3)
+    out = {}
+    for _, s in gmsh.model.getBoundary([(3, vol)], oriented=True):
+        sign = 1 if s > 0 else -1
+        s = abs(s)
+        tri = []
+        for et, _, nt in zip(*gmsh.model.mesh.getElements(2, s)):
+            if et == 2:
+                tri.append(np.array(nt, np.int64).reshape(-1, 3))
+        if not tri:
+            continue
+        P = X[np.concatenate(tri)]
+        n = np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0])
+        n = sign * n / np.linalg.norm(n, axis=1)[:, None]
+        out[s] = (P, n)
+    vol6 = sum(np.einsum("ij,ij->i", P.mean(axis=1), n * 0.5 * np.linalg.norm(
+        np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1)[:, None]).sum() for P, n in out.values())
+    if vol6 < 0:
+        out = {s: (P, -n) for s, (P, n) in out.items()}
+    return out
+
+
+def node_normals(faces, cad):
+    """{face: outward unit normals at its triangles' corners}: the CAD
+    normals (STEP), else the triangles' own."""
+    out = {}
+    for s, (P, n) in faces.items():
+        if not cad:
+            out[s] = n
+            continue
+        pts = P.reshape(-1, 3)
+        uv = gmsh.model.getParametrization(2, s, pts.reshape(-1))
+        m = np.array(gmsh.model.getNormal(s, uv)).reshape(-1, 3)
+        if np.sum(m * np.repeat(n, 3, axis=0)) < 0:
+            m = -m
+        out[s] = m
+    return out
+
+
+def sort_faces(faces, groups, normals):
+    """Base, walls and top of an insert: the base is the tibia_inferior
+    faces (flat, at one height, facing down), walls are vertical faces, the
+    top all others, which must face up everywhere (a height field).
+    normals: node_normals().  Returns (base faces, base height, walls,
+    top).  Raises NotSweepable."""
+    base = [s for s in faces if groups.get(s) == "tibia_inferior"]
+    if not base:
+        raise NotSweepable("the insert has no tibia_inferior face")
+    z = np.concatenate([faces[s][0][..., 2].ravel() for s in base])
+    z0 = float(z.mean())
+    if np.ptp(z) > 1e-6 or any(np.min(-normals[s][:, 2]) < 0.9999 for s in base):
+        raise NotSweepable("the base (faces %s) is not flat and horizontal" % base)
+    walls, top = [], []
+    for s in faces:
+        n = normals[s]
+        if s in base:
+            continue
+        if np.max(np.abs(n[:, 2])) < (1e-6 if n is not faces[s][1] else 0.05):
+            walls.append(s)
+        elif np.min(n[:, 2]) > 0.02:
+            top.append(s)
+        else:
+            raise NotSweepable("face %d is neither vertical nor facing up everywhere "
+                               "(normals n_z from %.2f to %.2f)" % (s, n[:, 2].min(), n[:, 2].max()))
+    area = lambda P, n: 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1)
+    base_area = sum(area(*faces[s]).sum() for s in base)
+    plan_area = sum((area(*faces[s]) * faces[s][1][:, 2]).sum() for s in top)
+    if abs(plan_area / base_area - 1) > 2e-3:
+        raise NotSweepable("the top faces cover %.1f mm^2 in plan, the base %.1f mm^2 (overhangs?)"
+                           % (plan_area, base_area))
+    return base, z0, walls, top
+
+
+# ------------------------------------------------------------------ top
+class Top:
+    """Vertical projection onto the top faces: a plan lookup in their
+    triangles, refined on the CAD faces (project=True)."""
+
+    def __init__(self, faces, top, cad, cell=2.0):
+        self.P = np.concatenate([faces[s][0] for s in top])
+        self.face = np.concatenate([np.full(len(faces[s][0]), s) for s in top])
+        self.cad = cad
+        self.cell = cell
+        lo = self.P[:, :, :2].min(axis=1)
+        hi = self.P[:, :, :2].max(axis=1)
+        self.buckets = {}
+        for t in range(len(self.P)):
+            for bx in range(int(math.floor(lo[t, 0] / cell)), int(math.floor(hi[t, 0] / cell)) + 1):
+                for by in range(int(math.floor(lo[t, 1] / cell)), int(math.floor(hi[t, 1] / cell)) + 1):
+                    self.buckets.setdefault((bx, by), []).append(t)
+
+    def locate(self, p):
+        """(triangle, z) of the top triangle above plan point p (the nearest
+        one if p is just outside all of them)."""
+        best, best_out = None, -np.inf
+        b = (int(math.floor(p[0] / self.cell)), int(math.floor(p[1] / self.cell)))
+        cands = []
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                cands += self.buckets.get((b[0] + dx, b[1] + dy), [])
+        for t in cands:
+            a, bb, c = self.P[t]
+            d = (bb[1] - c[1]) * (a[0] - c[0]) + (c[0] - bb[0]) * (a[1] - c[1])
+            if abs(d) < 1e-14:
+                continue
+            l1 = ((bb[1] - c[1]) * (p[0] - c[0]) + (c[0] - bb[0]) * (p[1] - c[1])) / d
+            l2 = ((c[1] - a[1]) * (p[0] - c[0]) + (a[0] - c[0]) * (p[1] - c[1])) / d
+            l3 = 1 - l1 - l2
+            m = min(l1, l2, l3)
+            if m > best_out:
+                best, best_out = (t, l1 * a[2] + l2 * bb[2] + l3 * c[2]), m
+                if m >= -1e-12:
+                    break
+        if best is None:
+            raise NotSweepable("no top face above plan point (%.2f, %.2f)" % (p[0], p[1]))
+        return best
+
+    def faces(self, XY):
+        """The top face above each plan point."""
+        return np.array([self.face[self.locate(p)[0]] for p in XY], np.int64)
+
+    def heights(self, XY):
+        """Heights of the top above plan points XY (n x 2) and the top face
+        of each."""
+        z = np.empty(len(XY))
+        f = np.empty(len(XY), np.int64)
+        for i, p in enumerate(XY):
+            t, z[i] = self.locate(p)
+            f[i] = self.face[t]
+        if self.cad:
+            for s in np.unique(f):
+                m = np.where(f == s)[0]
+                z[m] = self._newton(s, XY[m], z[m])
+        return z, f
+
+    @staticmethod
+    def _newton(s, XY, z, steps=8):
+        """Points of CAD face s straight above XY, starting from heights z:
+        Newton iterations on the tangent plane at the closest point q of the
+        current point P (the normal there is along P - q).  A point whose
+        iteration does not converge within 0.05 mm of its start keeps its
+        start."""
+        z0 = z.copy()
+        n = np.tile([0.0, 0.0, 1.0], (len(z), 1))
+        for _ in range(steps):
+            P = np.column_stack([XY, z])
+            q, _ = gmsh.model.getClosestPoint(2, int(s), P.reshape(-1))
+            q = np.array(q).reshape(-1, 3)
+            d = P - q
+            dist = np.linalg.norm(d, axis=1)
+            far = dist > 1e-10
+            n[far] = d[far] / dist[far, None]
+            z = q[:, 2] - (n[:, 0] * (XY[:, 0] - q[:, 0]) + n[:, 1] * (XY[:, 1] - q[:, 1])) / n[:, 2]
+        P = np.column_stack([XY, z])
+        q, _ = gmsh.model.getClosestPoint(2, int(s), P.reshape(-1))
+        ok = (np.linalg.norm(np.array(q).reshape(-1, 3) - P, axis=1) < 1e-7) & (np.abs(z - z0) < 0.05)
+        Top.n_fallback = getattr(Top, "n_fallback", 0) + int(np.sum(~ok))
+        return np.where(ok, z, z0)
+
+
+# ------------------------------------------------------------------ plan
+def outline_segments(base, samples=400):
+    """Segments (n x 2 x 2) of the outline of the base faces (the curves
+    that bound just one of them, sampled)."""
+    count = {}
+    for s in base:
+        for _, c in gmsh.model.getBoundary([(2, s)], oriented=False):
+            count[abs(c)] = count.get(abs(c), 0) + 1
+    segs = []
+    for c in sorted(k for k, n in count.items() if n == 1):
+        lo, hi = gmsh.model.getParametrizationBounds(1, c)
+        t = np.linspace(lo[0], hi[0], samples + 1)
+        pts = np.array(gmsh.model.getValue(1, c, t)).reshape(-1, 3)[:, :2]
+        segs.append(np.stack([pts[:-1], pts[1:]], axis=1))
+    return np.concatenate(segs)
+
+
+def ray_to_outline(c, P, segs):
+    """Points where the rays from c through the points P meet the outline
+    first (the outline must be star-shaped with respect to c)."""
+    out = np.empty_like(P)
+    A, B = segs[:, 0], segs[:, 1]
+    E = B - A
+    w = A - c
+    for i, p in enumerate(P):
+        d = p - c
+        den = d[0] * E[:, 1] - d[1] * E[:, 0]
+        ok = np.abs(den) > 1e-14
+        den = np.where(ok, den, 1.0)
+        t = (w[:, 0] * E[:, 1] - w[:, 1] * E[:, 0]) / den
+        u = (w[:, 0] * d[1] - w[:, 1] * d[0]) / den
+        hit = ok & (u >= -1e-9) & (u <= 1 + 1e-9) & (t > 1e-9)
+        if not np.any(hit):
+            raise NotSweepable("the ray from the base centroid through (%.2f, %.2f) misses the outline"
+                               % tuple(p))
+        out[i] = c + np.min(t[hit]) * d
+    return out
+
+
+def plan_rectangle(c, segs, h):
+    """Half sides (a, b) of the rectangle of the O-grid: as large as fits
+    with at least two plan cells between its corners and the outline and
+    one between its sides and the outline."""
+    reach = [np.linalg.norm(ray_to_outline(c, (c + v)[None], segs)[0] - c)
+             for v in ([1.0, 0], [-1.0, 0], [0, 1.0], [0, -1.0])]
+    A, B = min(reach[:2]), min(reach[2:])
+    for lam in np.linspace(0.98, 0.3, 69):
+        a, b = lam * A, lam * B
+        if A - a < h or B - b < h:
+            continue
+        corners = c + np.array([[a, b], [-a, b], [-a, -b], [a, -b]])
+        q = ray_to_outline(c, corners, segs)
+        beyond = np.einsum("ij,ij->i", q - corners, corners - c) > 0
+        if np.all(beyond) and np.min(np.linalg.norm(q - corners, axis=1)) >= 2 * h:
+            return a, b
+    raise NotSweepable("no rectangle fits inside the base outline")
+
+
+def plan_blocks(c, segs, h):
+    """Plan node arrays (ni x nj x 2) of the O-grid: the rectangle and four
+    ring blocks (first index along the rectangle side, second outward)."""
+    a, b = plan_rectangle(c, segs, h)
+    nx = max(2, int(round(2 * a / h)))
+    ny = max(2, int(round(2 * b / h)))
+    x = c[0] + np.linspace(-a, a, nx + 1)
+    y = c[1] + np.linspace(-b, b, ny + 1)
+    rect = np.stack(np.meshgrid(x, y, indexing="ij"), axis=-1)
+    edges = [np.stack([np.full_like(y, x[-1]), y], -1), np.stack([np.full_like(y, x[0]), y], -1),
+             np.stack([x, np.full_like(x, y[-1])], -1), np.stack([x, np.full_like(x, y[0])], -1)]
+    outs = [ray_to_outline(c, e, segs) for e in edges]
+    width = max(np.max(np.linalg.norm(o - e, axis=1)) for e, o in zip(edges, outs))
+    n_ring = max(1, int(math.ceil(width / h)))
+    s = np.linspace(0.0, 1.0, n_ring + 1)
+    ring = [e[:, None, :] + s[None, :, None] * (o - e)[:, None, :] for e, o in zip(edges, outs)]
+    return [rect] + ring
+
+
+# ------------------------------------------------------------------ body
+def mesh_insert(vol, groups, h, cells, top_cell, cad):
+    """The swept insert (steps 1-3) for volume `vol` of the current gmsh
+    model, whose boundary is triangulated (any size; it locates the top
+    faces).  groups: face -> group.  Returns (nodes, hexes, surfaces).
+    Raises NotSweepable."""
+    faces = boundary_triangles(vol)
+    base, z0, walls, top = sort_faces(faces, groups, node_normals(faces, cad))
+    P = np.concatenate([faces[s][0] for s in base])
+    w = 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1)
+    c = (w[:, None] * P.mean(axis=1)[:, :2]).sum(axis=0) / w.sum()
+    segs = outline_segments(base) if cad else boundary_edges_2d(P)
+    top_lookup = Top(faces, top, cad)
+    blocks = plan_blocks(c, segs, h)
+    t_min = None
+    columns = []
+    for B in blocks:
+        z, f = top_lookup.heights(B.reshape(-1, 2))
+        columns.append((z.reshape(B.shape[:2]), f.reshape(B.shape[:2])))
+        t_min = min(t_min if t_min is not None else np.inf, float((z - z0).min()))
+    if t_min <= 0:
+        raise NotSweepable("the top touches the base")
+    sig = 1.0 - graded(cells, 1.0, min(top_cell / t_min, 1.0 / cells))[::-1]
+    body = Body("tibia")
+    for B, (z, _) in zip(blocks, columns):
+        Z = z0 + (z - z0)[..., None] * sig
+        XY = np.broadcast_to(B[..., None, :], B.shape[:2] + (cells + 1, 2))
+        body.add(np.concatenate([XY, Z[..., None]], axis=-1), {"kmin": "tibia_inferior", "kmax": "top"})
+    nodes, hexes, surfaces = body.assemble()
+    # the top quadrangles take the group of the face under their centre
+    q = surfaces.pop("top")
+    cen = nodes[q].mean(axis=1)
+    f = top_lookup.faces(cen[:, :2])
+    for g in set(groups.get(s) for s in top):
+        if g:
+            m = np.array([groups.get(s) == g for s in f])
+            surfaces[g] = np.concatenate([surfaces.get(g, np.zeros((0, 4), np.int64)), q[m]])
+    return nodes, hexes, surfaces
+
+
+def boundary_edges_2d(P):
+    """Outline segments of a flat triangulated face (its boundary edges)."""
+    count = {}
+    for t in P[:, :, :2]:
+        for i in range(3):
+            a, b = tuple(np.round(t[i], 9)), tuple(np.round(t[(i + 1) % 3], 9))
+            k = (a, b) if a < b else (b, a)
+            count[k] = count.get(k, 0) + 1
+    return np.array([[a, b] for k, n in count.items() if n == 1 for a, b in [k]])
