@@ -39,17 +39,28 @@ namespace TKR::Output
     out << "  cells at the contact surfaces: smallest scaled Jacobian "
         << tibia_quality << " (tibia_contact), " << femur_quality
         << " (femur_contact)" << std::endl;
-    for (const auto &[name, quality] :
-         {std::make_pair("tibia_contact", tibia_quality),
-          std::make_pair("femur_contact", femur_quality)})
-      if (quality < quality_warning)
-        out << "Warning: cells with a face on " << name
-            << " have a scaled Jacobian down to " << quality
-            << ", below the Mesh/Contact cell quality of " << quality_warning
-            << ": nodal contact pressures and the wear depth scatter on "
-               "such cells (doc/geometry.md); mesh the articular surfaces "
-               "with shape-regular hexahedra."
-            << std::endl;
+    // The pressures and the wear depth are nodal values on tibia_contact
+    // (the mortar's slave side): its cells decide how they scatter. The
+    // femur's cells enter through the projected gap only; on mesh-implant's
+    // output (femur 0.26, tibia 0.51) the peak pressure at 2000 N is within
+    // 6 % of the structured mesh's (doc/geometry.md), so for them a note.
+    if (tibia_quality < quality_warning)
+      out << "Warning: cells with a face on tibia_contact have a scaled "
+             "Jacobian down to "
+          << tibia_quality << ", below the Mesh/Contact cell quality of "
+          << quality_warning
+          << ": nodal contact pressures and the wear depth scatter on such "
+             "cells (doc/geometry.md); mesh the articular surfaces with "
+             "shape-regular hexahedra."
+          << std::endl;
+    if (femur_quality < quality_warning)
+      out << "Note: cells with a face on femur_contact have a scaled "
+             "Jacobian down to "
+          << femur_quality << ", below the Mesh/Contact cell quality of "
+          << quality_warning
+          << "; they shape the gap the tibia's nodes see: compare the peak "
+             "pressure with a finer mesh (doc/geometry.md)."
+          << std::endl;
     summary.set("contact_cell_quality_tibia", tibia_quality);
     summary.set("contact_cell_quality_femur", femur_quality);
     summary.set("cells", statistics.femur_cells + statistics.tibia_cells);

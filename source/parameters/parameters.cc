@@ -37,12 +37,12 @@ namespace TKR::Parameters
         "Contact cell quality",
         "0.3",
         Patterns::Double(-1, 1),
-        "Warn when a cell with a face on tibia_contact or femur_contact has "
-        "a smaller scaled Jacobian (the smallest over its corners of the "
+        "Warn when a cell with a face on tibia_contact has a smaller scaled "
+        "Jacobian (the smallest over its corners of the "
         "determinant of the three edges leaving the corner over the "
-        "product of their lengths: 1 for a cube). Nodal contact pressures "
-        "and wear depths scatter on distorted contact cells "
-        "(doc/geometry.md).");
+        "product of their lengths: 1 for a cube), and note it for "
+        "femur_contact. Nodal contact pressures and wear depths scatter on "
+        "distorted contact cells (doc/geometry.md).");
       prm.declare_entry("Finite element degree",
                         "1",
                         Patterns::Integer(1, 3),
