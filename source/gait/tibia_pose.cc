@@ -4,6 +4,7 @@
 #include <deal.II/base/numbers.h>
 
 #include <tkr/base/exceptions.h>
+#include <tkr/gait/pose_update.h>
 #include <tkr/gait/tibia_pose.h>
 #include <tkr/mesh/mesh.h>
 
@@ -322,8 +323,7 @@ namespace TKR::Gait
       0.5 * gait_loads.inferior_surface().width * numbers::PI / 180.;
 
     PoseIteration result;
-    double        relaxation = 1.;
-    Tensor<1, 6>  previous_r;
+    PoseUpdate    update;
     for (;;)
       {
         const bool          contact_converged = solve(pose, result.motion);
@@ -335,12 +335,12 @@ namespace TKR::Gait
           gait_loads.ap_restraint_excess(position) - pose.restraint_force;
         const double torque_change =
           gait_loads.ie_restraint_excess(rotation) - pose.restraint_torque;
-        const Tensor<1, 6> r({mean[0],
-                              mean[1],
-                              mean[2],
-                              rim * result.motion.rotation_z,
-                              force_scale * force_change,
-                              torque_scale * torque_change});
+        const PoseUpdate::Vector r({mean[0],
+                                    mean[1],
+                                    mean[2],
+                                    rim * result.motion.rotation_z,
+                                    force_scale * force_change,
+                                    torque_scale * torque_change});
         result.residual = std::max(
           {mean.norm(), std::abs(r[3]), std::abs(r[4]), std::abs(r[5])});
         result.converged = result.residual <= parameters.pose_tolerance;
@@ -348,31 +348,35 @@ namespace TKR::Gait
             result.n_updates + 1 >= max_iterations)
           break;
 
-        if (result.n_updates > 0)
-          {
-            if (r.norm() >= previous_r.norm())
-              relaxation *= 0.5;
-            else
-              {
-                const double slope =
-                  (1. - r * previous_r / previous_r.norm_square()) / relaxation;
-                if (slope > 0)
-                  relaxation = std::min(1., 1. / slope);
-              }
-          }
-        previous_r = r;
+        // The excess force moves all the way to its value at the position
+        // reached inside the inner range (the excess is flat there: its
+        // Newton step), k / k_beyond of the way beyond it.
         const bool force_inside =
           std::abs(position) <= parameters.ap_spring_range;
         const bool torque_inside =
           std::abs(rotation) <= parameters.ie_spring_range;
-        pose.translation += relaxation * moved;
-        pose.rotation += relaxation * result.motion.rotation_z;
-        pose.restraint_force +=
-          relaxation * (force_inside ? 1. : force_weight) * force_change;
-        pose.restraint_torque +=
-          relaxation * (torque_inside ? 1. : torque_weight) * torque_change;
+        const PoseUpdate::Vector q({pose.translation[0],
+                                    pose.translation[1],
+                                    pose.translation[2],
+                                    pose.rotation,
+                                    pose.restraint_force,
+                                    pose.restraint_torque});
+        const PoseUpdate::Vector d(
+          {moved[0],
+           moved[1],
+           moved[2],
+           result.motion.rotation_z,
+           (force_inside ? 1. : force_weight) * force_change,
+           (torque_inside ? 1. : torque_weight) * torque_change});
+        const PoseUpdate::Vector next = update.next(q, d, r);
+        for (unsigned int i = 0; i < 3; ++i)
+          pose.translation[i] = next[i];
+        pose.rotation         = next[3];
+        pose.restraint_force  = next[4];
+        pose.restraint_torque = next[5];
         ++result.n_updates;
       }
+    result.bracketed = update.bracketed_ever();
     return result;
   }
 } // namespace TKR::Gait
