@@ -227,6 +227,16 @@ def outline_segments(base, samples=400):
     return np.concatenate(segs)
 
 
+def plan_distance(P, segs):
+    """Distance of plan points P (n x 2) from the outline segments."""
+    A, E = segs[:, 0], segs[:, 1] - segs[:, 0]
+    out = np.empty(len(P))
+    for i, p in enumerate(P):
+        t = np.clip(((p - A) * E).sum(1) / np.maximum((E * E).sum(1), 1e-300), 0, 1)
+        out[i] = np.min(np.linalg.norm(A + t[:, None] * E - p, axis=1))
+    return out
+
+
 def ray_to_outline(c, P, segs):
     """Points where the rays from c through the points P meet the outline
     first (the outline must be star-shaped with respect to c)."""
@@ -299,6 +309,10 @@ def mesh_insert(vol, groups, h, cells, top_cell, cad):
     w = 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1)
     c = (w[:, None] * P.mean(axis=1)[:, :2]).sum(axis=0) / w.sum()
     segs = outline_segments(base) if cad else boundary_edges_2d(P)
+    for s in walls:   # a vertical face inside the outline (a post's side) breaks the columns
+        d = plan_distance(faces[s][0][..., :2].reshape(-1, 2), segs)
+        if d.max() > (1e-3 if cad else 0.05):
+            raise NotSweepable("the vertical face %d lies %.2f mm inside the base's outline" % (s, d.max()))
     top_lookup = Top(faces, top, cad)
     blocks = plan_blocks(c, segs, h)
     t_min = None
