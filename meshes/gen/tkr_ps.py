@@ -14,9 +14,13 @@ Insert: the dished insert of tkr.py with larger dish radii than A (lower
 sagittal and frontal conformity) and a central tibial post between the
 dishes: a prism along x (half width post_half_width) whose sagittal section
 has a vertical posterior face at y = post_back, a top at z = post_top and
-an anterior face inclined from (post_front, post_base) to
-(post_front_top, post_top); it rises from post_base (inside the insert)
-into the femur's box.
+an anterior face vertical at y = post_front up to z = post_chamfer, then
+chamfered to (post_front_top, post_top); it rises from post_base (inside
+the insert) into the femur's box.  (All four sides of the post are
+vertical where they meet the dishes and the plateau: the insert is then a
+height field with steps along vertical walls, which insert_sweep.py
+meshes as columns; an anterior face inclined down to the articular
+surface would not be.)
 
 With the femur rotated about the distal-arc centre (the flexion axis) and
 lowered onto the dishes (clearance_report()), the post stays clear of the
@@ -41,7 +45,7 @@ VARIANT = dict(
     gap=1e-3)
 # the posterior stabilisation
 PS = dict(post_half_width=7.0, post_back=7.0, post_front=17.0, post_front_top=14.0,
-          post_top=27.0, post_base=9.0, cam_theta=105.0, cam_eta=6.0, cam_radius=3.0)
+          post_chamfer=21.0, post_top=27.0, post_base=9.0, cam_theta=105.0, cam_eta=6.0, cam_radius=3.0)
 
 
 class Geometry(tkr.Geometry):
@@ -62,7 +66,8 @@ class Geometry(tkr.Geometry):
     def post_polygon(self):
         """Sagittal section of the post, (y, z), counter-clockwise."""
         return np.array([[self.post_back, self.post_base], [self.post_front, self.post_base],
-                         [self.post_front_top, self.post_top], [self.post_back, self.post_top]])
+                         [self.post_front, self.post_chamfer], [self.post_front_top, self.post_top],
+                         [self.post_back, self.post_top]])
 
     def post_distance(self, P):
         """Signed distance of points P (n x 3) from the post solid (negative
@@ -281,7 +286,7 @@ def chordal_stl(path, deviation=0.3, h_max=12.0):
     return worst
 
 
-def export_cad(outdir, deviation=0.3):
+def export_cad(outdir, deviation=0.25):
     """tkr-c-femur.step/.stl and tkr-c-insert.step/.stl in outdir; returns
     [(file, chordal deviation of the STL or None)]."""
     import os
@@ -386,10 +391,10 @@ def geometry_report(mesh_report=None, mesh_check=None):
           % (2 * g.A, 2 * g.B, g.H, g.post_top, g.t_min, g.x_c, g.y_dish, g.t_min),
           "  insert conformity: sagittal R_d/R_ts = %.2f (A 0.80), frontal R_f/R_tf = %.2f (A 0.93)"
           % (g.R_d / g.R_ts, g.R_f / g.R_tf),
-          "  post: x -%.1f..%.1f (width %.1f), posterior face y = %.1f (vertical), anterior face from "
-          "(y %.1f, z %.1f) to (y %.1f, z %.1f), top z = %.1f (%.1f above the plateau)"
+          "  post: x -%.1f..%.1f (width %.1f), posterior face y = %.1f (vertical), anterior face y = %.1f "
+          "(vertical) up to z = %.1f, chamfered to (y %.1f, z %.1f), top z = %.1f (%.1f above the plateau)"
           % (g.post_half_width, g.post_half_width, 2 * g.post_half_width, g.post_back, g.post_front,
-             g.post_base, g.post_front_top, g.post_top, g.post_top, g.post_top - g.H),
+             g.post_chamfer, g.post_front_top, g.post_top, g.post_top, g.post_top - g.H),
           "  femoral component: width %.1f, AP extent %.1f (y %.1f..%.1f), height %.1f (z %.1f..%.1f); "
           "condyle width %.1f, condyle spacing %.1f"
           % (2 * g.x_out, np.ptp(fem[:, 1]), fem[:, 1].min(), fem[:, 1].max(), np.ptp(fem[:, 2]),
