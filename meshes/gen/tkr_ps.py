@@ -45,7 +45,7 @@ VARIANT = dict(
     gap=1e-3)
 # the posterior stabilisation
 PS = dict(post_half_width=7.0, post_back=7.0, post_front=17.0, post_front_top=14.0,
-          post_chamfer=21.0, post_top=27.0, post_base=9.0, cam_theta=105.0, cam_eta=6.0, cam_radius=3.0)
+          post_chamfer=21.0, post_top=27.0, post_base=9.0, cam_theta=105.0, cam_eta=4.5, cam_radius=3.0)
 
 
 class Geometry(tkr.Geometry):
@@ -59,7 +59,7 @@ class Geometry(tkr.Geometry):
         s = self.s_of_theta(self.cam_theta)
         Q, n, _ = self.curve(np.array([s]))
         self.cam_centre = Q[0] - self.cam_eta * n[0]          # (y, z) at 0 deg
-        assert self.cam_eta + self.cam_radius <= self.t_fem + 1.0
+        assert self.cam_eta + self.cam_radius < self.t_fem   # inside the component
         assert self.post_half_width < self.x_in
 
     # ------------------------------------------------------------ post
