@@ -303,6 +303,15 @@ def plan_blocks(c, segs, h, feature=None):
         y = c[1] + np.linspace(-b, b, ny + 1)
     else:
         x0, x1, y0, y1 = feature
+        # widen the rectangle to hold the feature and a cell around it if the
+        # outline leaves room (a cell between the corners and the outline)
+        a2 = max(a, abs(x0 - c[0]) + h, abs(x1 - c[0]) + h)
+        b2 = max(b, abs(y0 - c[1]) + h, abs(y1 - c[1]) + h)
+        corners = c + np.array([[a2, b2], [-a2, b2], [-a2, -b2], [a2, -b2]])
+        q = ray_to_outline(c, corners, segs)
+        if (np.all(np.einsum("ij,ij->i", q - corners, corners - c) > 0)
+                and np.min(np.linalg.norm(q - corners, axis=1)) >= h):
+            a, b = a2, b2
         if not (c[0] - a + 0.75 * h <= x0 and x1 <= c[0] + a - 0.75 * h
                 and c[1] - b + 0.75 * h <= y0 and y1 <= c[1] + b - 0.75 * h):
             raise NotSweepable("the raised feature (x %.1f..%.1f, y %.1f..%.1f) does not fit inside the "
