@@ -70,10 +70,25 @@ def targets():
                             (lambda v=variant: tkr.cad_volumes(v)), res == "fine"))
         out.append(("tkr/tkr-a-implant.msh", unstructured.make_implant,
                     (lambda: tkr.cad_volumes("a")), False))
+        # variant C (posterior-stabilised, tkr_ps.py): scripts/mesh-implant on
+        # its STEP files (a child process: it prints its face tables), which
+        # also writes tkr-c-report.txt and tkr-c-coarse.prm
+        out.append(("tkr/tkr-c-coarse.msh", make_tkr_c, tkr_c_volumes, False))
     return out
 
 
 MADE_TKR = {}
+
+
+def make_tkr_c(path):
+    assert path == os.path.join(MESHES, "tkr", "tkr-c-coarse.msh")
+    subprocess.run([sys.executable, os.path.join(HERE, "tkr_ps.py"), "mesh"], check=True,
+                   stdout=subprocess.DEVNULL)
+
+
+def tkr_c_volumes():
+    import tkr_ps
+    return tkr_ps.cad_volumes(tkr_ps.Geometry())
 
 
 def _write_tkr(variant, res, path):

@@ -170,15 +170,22 @@ def clearance_lines_dishes(g, flexions):
         tkr.Geometry = saved
 
 
-def cam_engagement(g, step=0.5):
-    """The flexion angle (deg) at which the cam first touches the post."""
+def cam_engagement(g, step=2.0, tol=0.1, top=120.0):
+    """The flexion angle (deg, within tol) at which the cam first touches
+    the post: a scan in steps of `step` deg, then bisection; None if not
+    up to `top` deg."""
     cam = g.femur_features()["cam"]
-    phi = 0.0
-    while phi <= 120.0:
-        if g.post_distance(g.flex(cam, phi, touch_drop(g, phi))).min() <= 0.0:
-            return phi
-        phi += step
-    return None
+    clear = lambda phi: g.post_distance(g.flex(cam, phi, touch_drop(g, phi))).min()
+    lo = 0.0
+    while lo + step <= top and clear(lo + step) > 0.0:
+        lo += step
+    if lo + step > top:
+        return None
+    hi = lo + step
+    while hi - lo > tol:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if clear(mid) > 0.0 else (lo, mid)
+    return hi
 
 
 def cam_over_insert(g, phi):
@@ -309,11 +316,11 @@ def export_cad(outdir, deviation=0.25):
 
 
 # ---------------------------------------------------------------- mesh
-def contact_faces(step, role):
+def femur_contact_without_cam(step):
     """The face ids (in scripts/mesh-implant's numbering of the STEP file)
-    of the articular group of `role`: mesh-implant's rule, plus the box
-    walls and the cam (femur) or the post's faces (insert), which the rule
-    leaves out (they face sideways)."""
+    of femur_contact by mesh-implant's rule, less the cam's cylinder (the
+    cam does not reach the post below 60 deg of flexion, cam_engagement(),
+    and its 3 mm radius folds a coarse contact layer)."""
     import argparse
     import contextlib
     import io
@@ -328,32 +335,28 @@ def contact_faces(step, role):
     gmsh.initialize(["gmsh", "-v", "0"])
     try:
         with tempfile.TemporaryDirectory() as tmp, contextlib.redirect_stdout(io.StringIO()):
-            part = mesh_implant.Part(role, step, args, tmp)
-        ids = set(part.contact)
-        for _, s in gmsh.model.getBoundary([(3, part.vol)], oriented=False):
-            s = abs(s)
-            c = np.array(gmsh.model.occ.getCenterOfMass(2, s))
+            part = mesh_implant.Part("femur", step, args, tmp)
+        ids = []
+        for s in part.contact:
             lo = np.array(gmsh.model.getBoundingBox(2, s))
-            if role == "femur":
-                wall = abs(lo[0] - lo[3]) < 1e-6 and abs(abs(c[0]) - g.x_in) < 1e-6
-                if wall or gmsh.model.getType(2, s) == "Cylinder":
-                    ids.add(s)
-            elif (np.all(np.abs(lo[[0, 3]]) <= g.post_half_width + 1e-6)
-                  and lo[1] >= g.post_back - 1e-6 and lo[4] <= g.post_front + 1e-6):
-                ids.add(s)
+            cam = (gmsh.model.getType(2, s) == "Cylinder" and lo[0] >= -g.x_in - 1e-6
+                   and lo[3] <= g.x_in + 1e-6)
+            if not cam:
+                ids.append(s)
     finally:
         gmsh.finalize()
     return sorted(ids)
 
 
-COARSE = ["--contact-size", "4", "--size", "8"]
+COARSE = ["--contact-size", "5", "--size", "12", "--layers", "1", "--layer-thickness", "1.0",
+          "--sweep-size", "3", "--sweep-cells", "4"]
 
 
 def make_coarse(path, cad_dir):
-    """tkr-c-coarse.msh: scripts/mesh-implant (--contact-size 4, otherwise
-    its defaults) on tkr-c-{femur,insert}.step in cad_dir, with the box
-    walls, the cam and the post in the articular groups.  Returns the text
-    of mesh-implant's report."""
+    """tkr-c-coarse.msh: scripts/mesh-implant with COARSE on
+    tkr-c-{femur,insert}.step in cad_dir, the cam left out of femur_contact
+    (femur_contact_without_cam).  Returns the text of mesh-implant's report
+    and the .prm fragment."""
     import os
     import shutil
     import tempfile
@@ -361,16 +364,23 @@ def make_coarse(path, cad_dir):
     import mesh_implant
     femur = os.path.join(cad_dir, "tkr-c-femur.step")
     insert = os.path.join(cad_dir, "tkr-c-insert.step")
-    argv = ["--femur", femur, "--insert", insert] + COARSE + [
-        "--femur-contact-faces", ",".join(map(str, contact_faces(femur, "femur"))),
-        "--tibia-contact-faces", ",".join(map(str, contact_faces(insert, "tibia")))]
+    rel = lambda p: os.path.join("meshes/tkr/cad", os.path.basename(p))
+    argv = ["--femur", rel(femur), "--insert", rel(insert)] + COARSE + [
+        "--femur-contact-faces", ",".join(map(str, femur_contact_without_cam(femur)))]
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "tkr-c-coarse.msh")
-        mesh_implant.main(argv + ["-o", out])
+        cwd = os.getcwd()
+        os.chdir(os.path.dirname(os.path.dirname(os.path.dirname(cad_dir))))
+        try:
+            mesh_implant.main(argv + ["-o", out])
+        finally:
+            os.chdir(cwd)
         shutil.move(out, path)
         with open(os.path.join(tmp, "tkr-c-coarse-report.txt")) as f:
             text = f.read()
-    return text.replace(os.path.dirname(femur), "meshes/tkr/cad").replace(tmp + "/", "")
+        with open(os.path.join(tmp, "tkr-c-coarse.prm")) as f:
+            prm = f.read()
+    return text.replace(tmp + "/", ""), prm.replace(tmp + "/", "meshes/tkr/")
 
 
 def geometry_report(mesh_report=None, mesh_check=None):
@@ -421,8 +431,8 @@ def geometry_report(mesh_report=None, mesh_check=None):
           "  the cam meets the post's posterior face at %.1f deg of flexion" % cam_engagement(g)]
     if mesh_report:
         L += ["", "meshes/tkr/tkr-c-coarse.msh: scripts/mesh-implant %s on the STEP files, with "
-              "--femur-contact-faces/--tibia-contact-faces adding the box walls, the cam and the post "
-              "(tkr_ps.contact_faces); its report:" % " ".join(COARSE)]
+              "--femur-contact-faces leaving the cam out of femur_contact "
+              "(tkr_ps.femur_contact_without_cam); its report:" % " ".join(COARSE)]
         L += ["  " + s for s in mesh_report.splitlines()]
     if mesh_check:
         L += ["", "meshes/gen/check_msh.py:"] + ["  " + s for s in mesh_check.splitlines()]
@@ -444,7 +454,9 @@ def main(argv):
                                             "" if dev is None else ", chordal deviation %.3f mm" % dev))
     if not argv or "mesh" in argv:
         path = os.path.join(meshes, "tkr", "tkr-c-coarse.msh")
-        text = make_coarse(path, cad_dir)
+        text, prm = make_coarse(path, cad_dir)
+        with open(os.path.join(meshes, "tkr", "tkr-c-coarse.prm"), "w") as f:
+            f.write(prm)
         check = subprocess.run([sys.executable, os.path.join(here, "check_msh.py"), path],
                                capture_output=True, text=True)
         with open(os.path.join(meshes, "tkr", "tkr-c-report.txt"), "w") as f:
