@@ -339,8 +339,9 @@ def femur_contact_without_cam(step):
         ids = []
         for s in part.contact:
             lo = np.array(gmsh.model.getBoundingBox(2, s))
+            c = np.array(gmsh.model.occ.getCenterOfMass(2, s))
             cam = (gmsh.model.getType(2, s) == "Cylinder" and lo[0] >= -g.x_in - 1e-6
-                   and lo[3] <= g.x_in + 1e-6)
+                   and lo[3] <= g.x_in + 1e-6 and np.linalg.norm(c[1:] - g.cam_centre) < g.cam_radius)
             if not cam:
                 ids.append(s)
     finally:
@@ -380,6 +381,15 @@ def make_coarse(path, cad_dir):
             text = f.read()
         with open(os.path.join(tmp, "tkr-c-coarse.prm")) as f:
             prm = f.read()
+    # the exact flexion axis (the distal-arc centre, moved with the femur)
+    # instead of mesh-implant's estimate, which the coarse facets bias
+    import re
+    g = Geometry()
+    dz = float(re.search(r"femur moved along z by ([-+0-9.]+) mm", text).group(1))
+    prm = re.sub(r"set Flexion axis point = .*",
+                 "set Flexion axis point = 0, %.3f, %.3f\n  # (replaced by tkr_ps.make_coarse: the "
+                 "distal-arc centre of the CAD, moved by %+.4f mm with the femur)" % (g.C_d[0], g.C_d[1] + dz, dz),
+                 prm)
     return text.replace(tmp + "/", ""), prm.replace(tmp + "/", "meshes/tkr/")
 
 
