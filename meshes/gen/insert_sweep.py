@@ -107,7 +107,7 @@ def sort_faces(faces, groups, normals):
         n = normals[s]
         if s in base:
             continue
-        if np.max(np.abs(n[:, 2])) < (1e-6 if n is not faces[s][1] else 0.05):
+        if np.max(np.abs(n[:, 2])) < (1e-6 if n is not faces[s][1] else 0.15):   # STL: chords of curved walls tilt
             walls.append(s)
         elif np.min(n[:, 2]) > 0.02:
             top.append(s)
@@ -121,6 +121,24 @@ def sort_faces(faces, groups, normals):
         raise NotSweepable("the top faces cover %.1f mm^2 in plan, the base %.1f mm^2 (overhangs?)"
                            % (plan_area, base_area))
     return base, z0, walls, top
+
+
+def split_stl_faces(faces, groups, vertical=0.15):
+    """STL faces come from a feature-angle split, which can join a vertical
+    wall and an inclined face meeting at a shallow angle (a post's anterior
+    face and its chamfer): split each such face into its near-vertical
+    triangles (|n_z| < vertical; a new id, face + 1000000) and the rest.
+    Returns (faces, groups) with the new ids, which keep their face's group."""
+    out, grp = {}, dict(groups)
+    for s, (P, n) in faces.items():
+        v = np.abs(n[:, 2]) < vertical
+        if np.all(v) or not np.any(v) or np.all(n[:, 2] < -0.9):
+            out[s] = (P, n)
+            continue
+        out[s] = (P[~v], n[~v])
+        out[s + 1000000] = (P[v], n[v])
+        grp[s + 1000000] = groups.get(s)
+    return out, grp
 
 
 # ------------------------------------------------------------------ top
@@ -375,12 +393,14 @@ def mesh_insert(vol, groups, h, cells, top_cell, cad):
     from the feature's edges; above them the feature's columns go up to its
     top with cells about h high.  Raises NotSweepable."""
     faces = boundary_triangles(vol)
+    if not cad:
+        faces, groups = split_stl_faces(faces, groups)
     base, z0, walls, top = sort_faces(faces, groups, node_normals(faces, cad))
     P = np.concatenate([faces[s][0] for s in base])
     w = 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1)
     c = (w[:, None] * P.mean(axis=1)[:, :2]).sum(axis=0) / w.sum()
     segs = outline_segments(base) if cad else boundary_edges_2d(P)
-    tol = 1e-3 if cad else 0.05
+    tol = 1e-3 if cad else 0.5   # STL: chordal error of the walls
     inner = [s for s in walls if plan_distance(faces[s][0][..., :2].reshape(-1, 2), segs).max() > tol]
     feature = raised_feature(faces, inner, tol) if inner else None
     top_lookup = Top(faces, top, cad)
