@@ -70,10 +70,25 @@ def targets():
                             (lambda v=variant: tkr.cad_volumes(v)), res == "fine"))
         out.append(("tkr/tkr-a-implant.msh", unstructured.make_implant,
                     (lambda: tkr.cad_volumes("a")), False))
+        # variant C (posterior-stabilised, tkr_ps.py): scripts/mesh-implant on
+        # its STEP files (a child process: it prints its face tables), which
+        # also writes tkr-c-report.txt and tkr-c-coarse.prm
+        out.append(("tkr/tkr-c-coarse.msh", make_tkr_c, tkr_c_volumes, False))
     return out
 
 
 MADE_TKR = {}
+
+
+def make_tkr_c(path):
+    assert path == os.path.join(MESHES, "tkr", "tkr-c-coarse.msh")
+    subprocess.run([sys.executable, os.path.join(HERE, "tkr_ps.py"), "mesh"], check=True,
+                   stdout=subprocess.DEVNULL)
+
+
+def tkr_c_volumes():
+    import tkr_ps
+    return tkr_ps.cad_volumes(tkr_ps.Geometry())
 
 
 def _write_tkr(variant, res, path):
@@ -84,15 +99,24 @@ def _write_tkr(variant, res, path):
 
 
 def export_cad():
-    """STEP/STL of variant A (test input of scripts/mesh-implant), in a child
-    process because OpenCASCADE prints its STEP statistics on stdout."""
-    code = ("import sys; sys.path.insert(0, %r); import tkr; "
-            "print('\\n'.join(tkr.export_cad('a', %r)))" % (HERE, os.path.join(MESHES, "tkr", "cad")))
-    os.makedirs(os.path.join(MESHES, "tkr", "cad"), exist_ok=True)
-    r = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True)
-    for line in r.stdout.splitlines():
-        if line.startswith("/"):
-            print("made  %s (%.2f MB)" % (os.path.relpath(line, MESHES), os.path.getsize(line) / 1e6))
+    """STEP/STL of variants A and B (tkr.export_cad) and of the
+    posterior-stabilised C (tkr_ps.export_cad, STL faceted by a chordal
+    tolerance): the test inputs of scripts/mesh-implant.  In child processes
+    because OpenCASCADE prints its STEP statistics on stdout."""
+    out = os.path.join(MESHES, "tkr", "cad")
+    codes = ["import sys; sys.path.insert(0, %r); import tkr; "
+             "print('\\n'.join(tkr.export_cad(%r, %r)))" % (HERE, v, out) for v in ("a", "b")]
+    codes.append("import sys; sys.path.insert(0, %r); import tkr_ps; "
+                 "print('\\n'.join('%%s %%s' %% fd for fd in tkr_ps.export_cad(%r)))" % (HERE, out))
+    os.makedirs(out, exist_ok=True)
+    for code in codes:
+        r = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True)
+        for line in r.stdout.splitlines():
+            if line.startswith("/"):
+                f, dev = (line.split(" ") + ["None"])[:2]
+                print("made  %s (%.2f MB)%s" % (os.path.relpath(f, MESHES), os.path.getsize(f) / 1e6,
+                                                "" if dev == "None" else ", STL chordal deviation %.3f mm"
+                                                % float(dev)))
 
 
 def _write(path, bodies):

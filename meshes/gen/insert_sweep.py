@@ -107,7 +107,7 @@ def sort_faces(faces, groups, normals):
         n = normals[s]
         if s in base:
             continue
-        if np.max(np.abs(n[:, 2])) < (1e-6 if n is not faces[s][1] else 0.05):
+        if np.max(np.abs(n[:, 2])) < (1e-6 if n is not faces[s][1] else 0.15):   # STL: chords of curved walls tilt
             walls.append(s)
         elif np.min(n[:, 2]) > 0.02:
             top.append(s)
@@ -121,6 +121,24 @@ def sort_faces(faces, groups, normals):
         raise NotSweepable("the top faces cover %.1f mm^2 in plan, the base %.1f mm^2 (overhangs?)"
                            % (plan_area, base_area))
     return base, z0, walls, top
+
+
+def split_stl_faces(faces, groups, vertical=0.15):
+    """STL faces come from a feature-angle split, which can join a vertical
+    wall and an inclined face meeting at a shallow angle (a post's anterior
+    face and its chamfer): split each such face into its near-vertical
+    triangles (|n_z| < vertical; a new id, face + 1000000) and the rest.
+    Returns (faces, groups) with the new ids, which keep their face's group."""
+    out, grp = {}, dict(groups)
+    for s, (P, n) in faces.items():
+        v = np.abs(n[:, 2]) < vertical
+        if np.all(v) or not np.any(v) or np.all(n[:, 2] < -0.9):
+            out[s] = (P, n)
+            continue
+        out[s] = (P[~v], n[~v])
+        out[s + 1000000] = (P[v], n[v])
+        grp[s + 1000000] = groups.get(s)
+    return out, grp
 
 
 # ------------------------------------------------------------------ top
@@ -227,6 +245,16 @@ def outline_segments(base, samples=400):
     return np.concatenate(segs)
 
 
+def plan_distance(P, segs):
+    """Distance of plan points P (n x 2) from the outline segments."""
+    A, E = segs[:, 0], segs[:, 1] - segs[:, 0]
+    out = np.empty(len(P))
+    for i, p in enumerate(P):
+        t = np.clip(((p - A) * E).sum(1) / np.maximum((E * E).sum(1), 1e-300), 0, 1)
+        out[i] = np.min(np.linalg.norm(A + t[:, None] * E - p, axis=1))
+    return out
+
+
 def ray_to_outline(c, P, segs):
     """Points where the rays from c through the points P meet the outline
     first (the outline must be star-shaped with respect to c)."""
@@ -268,14 +296,47 @@ def plan_rectangle(c, segs, h):
     raise NotSweepable("no rectangle fits inside the base outline")
 
 
-def plan_blocks(c, segs, h):
+def grid_line_positions(lo, hi, h, breaks=()):
+    """Node positions from lo to hi, about h apart, with nodes at the given
+    break points (piecewise uniform)."""
+    pts = [lo] + sorted(breaks) + [hi]
+    out = [np.array([lo])]
+    for a, b in zip(pts[:-1], pts[1:]):
+        n = max(1, int(round((b - a) / h)))
+        out.append(np.linspace(a, b, n + 1)[1:])
+    return np.concatenate(out)
+
+
+def plan_blocks(c, segs, h, feature=None):
     """Plan node arrays (ni x nj x 2) of the O-grid: the rectangle and four
-    ring blocks (first index along the rectangle side, second outward)."""
+    ring blocks (first index along the rectangle side, second outward).
+    feature: plan rectangle (x0, x1, y0, y1) of a raised feature, which
+    must lie inside the O-grid's rectangle at least a cell from its sides;
+    the rectangle then has grid lines along the feature's sides."""
     a, b = plan_rectangle(c, segs, h)
-    nx = max(2, int(round(2 * a / h)))
-    ny = max(2, int(round(2 * b / h)))
-    x = c[0] + np.linspace(-a, a, nx + 1)
-    y = c[1] + np.linspace(-b, b, ny + 1)
+    if feature is None:
+        nx = max(2, int(round(2 * a / h)))
+        ny = max(2, int(round(2 * b / h)))
+        x = c[0] + np.linspace(-a, a, nx + 1)
+        y = c[1] + np.linspace(-b, b, ny + 1)
+    else:
+        x0, x1, y0, y1 = feature
+        # widen the rectangle to hold the feature and a cell around it if the
+        # outline leaves room (a cell between the corners and the outline)
+        a2 = max(a, abs(x0 - c[0]) + h, abs(x1 - c[0]) + h)
+        b2 = max(b, abs(y0 - c[1]) + h, abs(y1 - c[1]) + h)
+        corners = c + np.array([[a2, b2], [-a2, b2], [-a2, -b2], [a2, -b2]])
+        q = ray_to_outline(c, corners, segs)
+        if (np.all(np.einsum("ij,ij->i", q - corners, corners - c) > 0)
+                and np.min(np.linalg.norm(q - corners, axis=1)) >= h):
+            a, b = a2, b2
+        if not (c[0] - a + 0.75 * h <= x0 and x1 <= c[0] + a - 0.75 * h
+                and c[1] - b + 0.75 * h <= y0 and y1 <= c[1] + b - 0.75 * h):
+            raise NotSweepable("the raised feature (x %.1f..%.1f, y %.1f..%.1f) does not fit inside the "
+                               "O-grid's rectangle (x %.1f..%.1f, y %.1f..%.1f)"
+                               % (x0, x1, y0, y1, c[0] - a, c[0] + a, c[1] - b, c[1] + b))
+        x = grid_line_positions(c[0] - a, c[0] + a, h, (x0, x1))
+        y = grid_line_positions(c[1] - b, c[1] + b, h, (y0, y1))
     rect = np.stack(np.meshgrid(x, y, indexing="ij"), axis=-1)
     edges = [np.stack([np.full_like(y, x[-1]), y], -1), np.stack([np.full_like(y, x[0]), y], -1),
              np.stack([x, np.full_like(x, y[-1])], -1), np.stack([x, np.full_like(x, y[0])], -1)]
@@ -287,34 +348,120 @@ def plan_blocks(c, segs, h):
     return [rect] + ring
 
 
+def raised_feature(faces, inner, tol):
+    """Plan rectangle (x0, x1, y0, y1) enclosed by the vertical faces
+    `inner` (which lie inside the base's outline): the sides of a raised
+    feature such as a tibial post.  They must form one axis-aligned
+    rectangle, each side covered from corner to corner."""
+    P = np.concatenate([faces[s][0][..., :2].reshape(-1, 2) for s in inner])
+    x0, y0 = P.min(axis=0)
+    x1, y1 = P.max(axis=0)
+    on = [np.abs(P[:, 0] - x0) < tol, np.abs(P[:, 0] - x1) < tol,
+          np.abs(P[:, 1] - y0) < tol, np.abs(P[:, 1] - y1) < tol]
+    if not np.all(np.any(on, axis=0)):
+        raise NotSweepable("the vertical faces %s inside the base's outline do not form one axis-aligned "
+                           "rectangle in plan" % inner)
+    for m, k, lo, hi in ((on[0], 1, y0, y1), (on[1], 1, y0, y1), (on[2], 0, x0, x1), (on[3], 0, x0, x1)):
+        v = np.sort(P[m, k])
+        if v[0] > lo + tol or v[-1] < hi - tol or np.max(np.diff(v)) > 0.25 * (hi - lo) + 4.0:
+            raise NotSweepable("the vertical faces %s do not close the sides of a raised feature" % inner)
+    return float(x0), float(x1), float(y0), float(y1)
+
+
+def coons(B):
+    """Transfinite interpolation of the interior of a tensor array (ni x nj)
+    from its boundary rows/columns (parameters from the node indices)."""
+    ni, nj = B.shape
+    u = np.linspace(0, 1, ni)[:, None]
+    v = np.linspace(0, 1, nj)[None, :]
+    return ((1 - u) * B[0:1, :] + u * B[-1:, :] + (1 - v) * B[:, 0:1] + v * B[:, -1:]
+            - ((1 - u) * (1 - v) * B[0, 0] + u * (1 - v) * B[-1, 0] + (1 - u) * v * B[0, -1]
+               + u * v * B[-1, -1]))
+
+
 # ------------------------------------------------------------------ body
 def mesh_insert(vol, groups, h, cells, top_cell, cad):
     """The swept insert (steps 1-3) for volume `vol` of the current gmsh
     model, whose boundary is triangulated (any size; it locates the top
     faces).  groups: face -> group.  Returns (nodes, hexes, surfaces).
-    Raises NotSweepable."""
+
+    A raised feature (a tibial post) whose sides are vertical faces inside
+    the base's outline, forming an axis-aligned rectangle in plan, is
+    meshed as a block of vertical columns standing on the columns below it:
+    the plan grid has lines along the feature's sides; under the feature
+    the columns end at the articular surface interpolated (transfinite)
+    from the feature's edges; above them the feature's columns go up to its
+    top with cells about h high.  Raises NotSweepable."""
     faces = boundary_triangles(vol)
+    if not cad:
+        faces, groups = split_stl_faces(faces, groups)
     base, z0, walls, top = sort_faces(faces, groups, node_normals(faces, cad))
     P = np.concatenate([faces[s][0] for s in base])
     w = 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1)
     c = (w[:, None] * P.mean(axis=1)[:, :2]).sum(axis=0) / w.sum()
     segs = outline_segments(base) if cad else boundary_edges_2d(P)
+    tol = 1e-3 if cad else 0.5   # STL: chordal error of the walls
+    inner = [s for s in walls if plan_distance(faces[s][0][..., :2].reshape(-1, 2), segs).max() > tol]
+    feature = raised_feature(faces, inner, tol) if inner else None
     top_lookup = Top(faces, top, cad)
-    blocks = plan_blocks(c, segs, h)
-    t_min = None
+    blocks = plan_blocks(c, segs, h, feature)
     columns = []
     for B in blocks:
         z, f = top_lookup.heights(B.reshape(-1, 2))
-        columns.append((z.reshape(B.shape[:2]), f.reshape(B.shape[:2])))
-        t_min = min(t_min if t_min is not None else np.inf, float((z - z0).min()))
+        columns.append(z.reshape(B.shape[:2]))
+    upper = None
+    if feature is not None:
+        # the rectangle block's index range of the feature and the two heights
+        # (the articular surface below, the feature's top above) on it
+        rect = blocks[0]
+        x0, x1, y0, y1 = feature
+        i0, i1 = (int(np.argmin(np.abs(rect[:, 0, 0] - v))) for v in (x0, x1))
+        j0, j1 = (int(np.argmin(np.abs(rect[0, :, 1] - v))) for v in (y0, y1))
+        F = rect[i0:i1 + 1, j0:j1 + 1]
+        eps = 10 * tol
+        ix = np.zeros(F.shape[:2])
+        ix[0, :], ix[-1, :] = -1, 1
+        iy = np.zeros(F.shape[:2])
+        iy[:, 0], iy[:, -1] = -1, 1
+        out_dir = np.stack([ix, iy], -1)
+        inside = F - eps * out_dir
+        hi, _ = top_lookup.heights(inside.reshape(-1, 2))
+        hi = hi.reshape(F.shape[:2])
+        edge = np.any(out_dir != 0, axis=-1)
+        lo = np.zeros(F.shape[:2])
+        lo_edge, _ = top_lookup.heights((F + eps * out_dir)[edge])
+        lo[edge] = lo_edge
+        lo = np.where(edge, lo, coons(lo))
+        if np.min(hi - lo) <= tol:
+            raise NotSweepable("the raised feature does not rise above the articular surface everywhere")
+        columns[0][i0:i1 + 1, j0:j1 + 1] = lo
+        m = max(1, int(math.ceil(np.max(hi - lo) / h)))
+        t = np.linspace(0.0, 1.0, m + 1)
+        Z = lo[..., None] + (hi - lo)[..., None] * t
+        XY = np.broadcast_to(F[..., None, :], F.shape[:2] + (m + 1, 2))
+        upper = np.concatenate([XY, Z[..., None]], axis=-1)
+    t_min = min(float((z - z0).min()) for z in columns)
     if t_min <= 0:
         raise NotSweepable("the top touches the base")
     sig = 1.0 - graded(cells, 1.0, min(top_cell / t_min, 1.0 / cells))[::-1]
     body = Body("tibia")
-    for B, (z, _) in zip(blocks, columns):
+    for n, (B, z) in enumerate(zip(blocks, columns)):
         Z = z0 + (z - z0)[..., None] * sig
         XY = np.broadcast_to(B[..., None, :], B.shape[:2] + (cells + 1, 2))
-        body.add(np.concatenate([XY, Z[..., None]], axis=-1), {"kmin": "tibia_inferior", "kmax": "top"})
+        X = np.concatenate([XY, Z[..., None]], axis=-1)
+        if n == 0 and upper is not None:
+            # the rectangle in 3 x 3 parts; the one under the feature has no top
+            for ia, ib in ((0, i0), (i0, i1), (i1, X.shape[0] - 1)):
+                for ja, jb in ((0, j0), (j0, j1), (j1, X.shape[1] - 1)):
+                    if ib > ia and jb > ja:
+                        under = (ia, ja) == (i0, j0)
+                        body.add(X[ia:ib + 1, ja:jb + 1], {"kmin": "tibia_inferior",
+                                                           "kmax": None if under else "top"})
+        else:
+            body.add(X, {"kmin": "tibia_inferior", "kmax": "top"})
+    if upper is not None:
+        body.add(upper, {"kmax": "top", "imin": "inner wall", "imax": "inner wall",
+                         "jmin": "inner wall", "jmax": "inner wall"})
     nodes, hexes, surfaces = body.assemble()
     # the top quadrangles take the group of the face under their centre
     q = surfaces.pop("top")
@@ -324,6 +471,17 @@ def mesh_insert(vol, groups, h, cells, top_cell, cad):
         if g:
             m = np.array([groups.get(s) == g for s in f])
             surfaces[g] = np.concatenate([surfaces.get(g, np.zeros((0, 4), np.int64)), q[m]])
+    # the feature's sides take the group of the nearest inner vertical face
+    q = surfaces.pop("inner wall", None)
+    if q is not None and any(groups.get(s) for s in inner):
+        cen = nodes[q].mean(axis=1)
+        d = np.array([[np.min(np.linalg.norm(faces[s][0].mean(axis=1) - p, axis=1)) for s in inner]
+                      for p in cen])
+        f = np.array(inner)[np.argmin(d, axis=1)]
+        for g in set(groups.get(s) for s in inner):
+            if g:
+                m = np.array([groups.get(s) == g for s in f])
+                surfaces[g] = np.concatenate([surfaces.get(g, np.zeros((0, 4), np.int64)), q[m]])
     return nodes, hexes, surfaces
 
 

@@ -493,7 +493,7 @@ def main(argv=None):
     finally:
         gmsh.finalize()
     report = ["mesh-implant report (meshes/gen/mesh_implant.py)", "",
-              "femur:  %s" % os.path.abspath(args.femur), "insert: %s" % os.path.abspath(args.insert),
+              "femur:  %s" % args.femur, "insert: %s" % args.insert,
               "options: " + " ".join("--%s %s" % (k.replace("_", "-"), v) for k, v in sorted(vars(args).items())
                                      if v is not None and k not in ("femur", "insert", "output")), ""]
 

@@ -85,9 +85,11 @@ def resolution(variant, res):
 
 
 class Geometry:
-    def __init__(self, variant):
+    def __init__(self, variant, params=None):
+        """variant: a key of VARIANTS, or any name with its params (the
+        same keys; tkr_ps.py's variant C)."""
         self.variant = variant
-        p = dict(VARIANTS[variant])
+        p = dict(VARIANTS[variant] if params is None else params)
         self.p = p
         for k, v in p.items():
             setattr(self, k, v)
