@@ -7,23 +7,7 @@
 # Jacobian of at least 0.3. Exit code 0 only when every check passed. Needs
 # Debian's python3-gmsh and python3-numpy.
 set -uo pipefail
-root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-failed=0
-check() { # check DESCRIPTION COMMAND...
-  local what=$1
-  shift
-  if "$@" > "$work/check.log" 2>&1; then
-    echo "ok: $what"
-  else
-    echo "FAILED: $what"
-    cat "$work/check.log"
-    failed=1
-  fi
-}
-py=/usr/bin/python3
-cad=$root/meshes/tkr/cad
+source "$(dirname "${BASH_SOURCE[0]}")/checks.sh"
 check "mesh-implant on the TKR C STEP files" \
   "$root/scripts/mesh-implant" --femur "$cad/tkr-c-femur.step" \
   --insert "$cad/tkr-c-insert.step" -o "$work/knee.msh"
