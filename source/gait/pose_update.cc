@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
 
 namespace TKR::Gait
 {
@@ -35,57 +34,91 @@ namespace TKR::Gait
     return lambda;
   }
 
+  void
+  PoseUpdate::Bracket::add(const double q, const double d)
+  {
+    const int sign = (d > 0) - (d < 0);
+    if (sign > 0)
+      {
+        has_low = true;
+        q_low   = q;
+        d_low   = d;
+      }
+    else if (sign < 0)
+      {
+        has_high = true;
+        q_high   = q;
+        d_high   = d;
+      }
+    if (sign != 0)
+      {
+        signs.push_back(sign);
+        if (signs.size() > 3)
+          signs.erase(signs.begin());
+      }
+  }
+
+  bool
+  PoseUpdate::Bracket::encloses() const
+  {
+    return has_low && has_high && q_low < q_high;
+  }
+
+  bool
+  PoseUpdate::Bracket::oscillates() const
+  {
+    return signs.size() == 3 && signs[0] != signs[1] && signs[1] != signs[2];
+  }
+
+  double
+  PoseUpdate::Bracket::false_position() const
+  {
+    const double t = std::clamp(d_low / (d_low - d_high), 0.25, 0.75);
+    return q_low + t * (q_high - q_low);
+  }
+
+  bool
+  PoseUpdate::stalled() const
+  {
+    if (norms.size() <= 4)
+      return false;
+    const auto recent = norms.end() - 4;
+    return *std::min_element(recent, norms.end()) >=
+           0.9 * *std::min_element(norms.begin(), recent);
+  }
+
   PoseUpdate::Vector
   PoseUpdate::next(const Vector &q, const Vector &d, const Vector &r)
   {
     const double relaxation = relaxed_relaxation(r);
-    // Stalled: the last three solves did not bring |r| 10 % below the best
-    // before them (the relaxed step cycles or creeps).
     norms.push_back(r.norm());
-    bool stalled = false;
-    if (norms.size() > 3)
-      {
-        const auto recent = norms.end() - 3;
-        stalled           = *std::min_element(recent, norms.end()) >=
-                  0.9 * *std::min_element(norms.begin(), recent);
-      }
-    Vector result;
     for (unsigned int i = 0; i < n; ++i)
-      {
-        Bracket  &b    = brackets[i];
-        const int sign = (d[i] > 0) - (d[i] < 0);
-        if (sign > 0)
-          {
-            b.has_low = true;
-            b.q_low   = q[i];
-            b.d_low   = d[i];
-          }
-        else if (sign < 0)
-          {
-            b.has_high = true;
-            b.q_high   = q[i];
-            b.d_high   = d[i];
-          }
-        if (sign != 0 && b.last_sign != 0 && sign != b.last_sign)
-          ++b.sign_changes;
-        if (sign != 0)
-          b.last_sign = sign;
+      brackets[i].add(q[i], d[i]);
 
-        // A root lies between the two poses only if d > 0 below it and
-        // d < 0 above it (d decreases along the component).
-        const bool encloses = b.has_low && b.has_high && b.q_low < b.q_high;
-        b.active =
-          safeguard && encloses && b.sign_changes >= 2 && (b.active || stalled);
-        if (b.active)
-          {
-            ever = true;
-            // False position, held within the middle half of the bracket.
-            const double t =
-              std::clamp(b.d_low / (b.d_low - b.d_high), 0.25, 0.75);
-            result[i] = b.q_low + t * (b.q_high - b.q_low);
-          }
-        else
-          result[i] = q[i] + relaxation * d[i];
+    // A bracket much narrower than the correction asked for inside it no
+    // longer holds the root (the other components moved it, or d jumps
+    // there): back to the relaxed step.
+    if (active < n &&
+        (!brackets[active].encloses() ||
+         std::abs(brackets[active].q_high - brackets[active].q_low) <
+           1e-3 * std::abs(d[active])))
+      {
+        brackets[active].signs.clear();
+        active = n;
+      }
+    // Once the relaxed step stalls, bracket the component with the largest
+    // residual among those that alternate and enclose a root.
+    if (safeguard && active == n && stalled())
+      for (unsigned int i = 0; i < n; ++i)
+        if (brackets[i].oscillates() && brackets[i].encloses() &&
+            (active == n || std::abs(r[i]) > std::abs(r[active])))
+          active = i;
+
+    Vector result = q + relaxation * d;
+    if (active < n)
+      {
+        ever           = true;
+        result[active] = brackets[active].false_position();
       }
     return result;
   }
@@ -96,12 +129,10 @@ namespace TKR::Gait
     return lambda;
   }
 
-  unsigned int
-  PoseUpdate::n_bracketed() const
+  bool
+  PoseUpdate::bracketing() const
   {
-    return std::count_if(brackets.begin(),
-                         brackets.end(),
-                         [](const Bracket &b) { return b.active; });
+    return active < n;
   }
 
   bool

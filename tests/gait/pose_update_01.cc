@@ -13,10 +13,10 @@
 //    handles alone, but there the other components were coupled to it),
 //    flat outside; the other five components smooth. The relaxed step alone
 //    cycles for all 40 solves; with the safeguard the root -3.60973 mm is
-//    found;
+//    found (23 solves);
 // 3. a correction that jumps over its root (no pose meets the tolerance):
-//    reported as not converged by both rules, the bracket shrunk to the
-//    jump.
+//    NOT converged with both rules (the safeguard does not make a step
+//    without an equilibrium converged).
 
 #include <tkr/gait/pose_update.h>
 

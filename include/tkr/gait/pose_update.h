@@ -24,20 +24,20 @@ namespace TKR::Gait
    * estimate of how much of the scaled residual r one unit of step removed
    * (lambda is halved when |r| did not decrease).
    *
-   * That step can cycle when d jumps steeply over a small range of q, as
-   * it does where a contact node enters the active set near equilibrium
-   * (the position reached falls with slope -5 over 0.004 mm on TKR B).
-   * The safeguard keeps, per component, the latest pose with d > 0 and the
-   * latest with d < 0. Once the iteration stalls (three solves without
-   * bringing |r| 10 % below the best before them), every component whose d
-   * has changed sign at least twice and whose two poses enclose a root (the
-   * one with d > 0 below the one with d < 0) stops following the relaxed
-   * step: its next value is the
-   * false-position point of the bracket, held within the bracket's middle
-   * half, so the bracket shrinks to at most 3/4 per solve, and d, which is
-   * continuous in q, goes to zero with it. The other components keep the
-   * relaxed step. A bracket that stops enclosing a root (the other
-   * components moved it) is dropped and the component relaxed again.
+   * That step can cycle when d falls steeply over a small range of q, as it
+   * does where a contact node enters the active set near equilibrium. The
+   * safeguard keeps, per component, the latest pose with d > 0 and the
+   * latest with d < 0. When the relaxed step stalls (four solves without
+   * bringing |r| 10 % below the best before them), the component with the
+   * largest residual among those whose d alternated in sign over the last
+   * three solves and whose two poses enclose a root (the one with d > 0
+   * below the one with d < 0) stops following the relaxed step: its next
+   * value is the false-position point of the bracket, held within the
+   * bracket's middle half, so the bracket shrinks to at most 3/4 per solve
+   * and d, continuous in q, goes to zero with it. The other components keep
+   * the relaxed step. A bracket that stops enclosing a root, or becomes a
+   * thousand times narrower than the correction asked for inside it (the
+   * other components moved the root, or d jumps), is dropped.
    */
   class PoseUpdate
   {
@@ -63,9 +63,9 @@ namespace TKR::Gait
     double
     relaxation() const;
 
-    /** How many components are being bracketed now. */
-    unsigned int
-    n_bracketed() const;
+    /** Whether a component is being bracketed now. */
+    bool
+    bracketing() const;
 
     /** Whether any component was bracketed in this iteration. */
     bool
@@ -74,19 +74,33 @@ namespace TKR::Gait
   private:
     struct Bracket
     {
-      bool         has_low = false, has_high = false, active = false;
-      double       q_low = 0, d_low = 0, q_high = 0, d_high = 0;
-      int          last_sign    = 0;
-      unsigned int sign_changes = 0;
+      bool   has_low = false, has_high = false;
+      double q_low = 0, d_low = 0, q_high = 0, d_high = 0;
+      /** Signs of d at the last three poses (without zeros). */
+      std::vector<int> signs;
+
+      void
+      add(const double q, const double d);
+      bool
+      encloses() const;
+      bool
+      oscillates() const;
+      double
+      false_position() const;
     };
 
     double
     relaxed_relaxation(const Vector &r);
 
-    bool                   safeguard;
-    double                 lambda       = 1;
-    bool                   has_previous = false;
-    bool                   ever         = false;
+    bool
+    stalled() const;
+
+    bool   safeguard;
+    double lambda       = 1;
+    bool   has_previous = false;
+    bool   ever         = false;
+    /** The bracketed component, n if none. */
+    unsigned int           active = n;
     Vector                 previous_r;
     std::array<Bracket, n> brackets;
     std::vector<double>    norms;
