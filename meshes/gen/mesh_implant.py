@@ -111,12 +111,25 @@ def write_stl_binary(path, tris):
             f.write(struct.pack("<12fH", *nrm, *t.reshape(-1), 0))
 
 
-def load_geometry(path, units, feature_angle, tmpdir):
-    """Load one body into the current (empty) gmsh model; return its volume tag."""
+def import_cad(path, rotation):
+    """Import a STEP/IGES/BREP file into the current gmsh model, turned by
+    `rotation` (x_ours = R x_file) if given."""
+    shapes = gmsh.model.occ.importShapes(path)
+    if rotation is not None:
+        a = np.zeros((3, 4))
+        a[:, :3] = rotation
+        gmsh.model.occ.affineTransform(shapes, list(a.reshape(-1)))
+    gmsh.model.occ.synchronize()
+    return shapes
+
+
+def load_geometry(path, units, feature_angle, tmpdir, rotation=None):
+    """Load one body into the current (empty) gmsh model, turned by the
+    3x3 matrix `rotation` (x_ours = R x_file) if given; return its volume
+    tag and, for an STL, its triangles."""
     ext = os.path.splitext(path)[1].lower()
     if ext in (".step", ".stp", ".iges", ".igs", ".brep"):
-        gmsh.model.occ.importShapes(path)
-        gmsh.model.occ.synchronize()
+        import_cad(path, rotation)
         vols = gmsh.model.getEntities(3)
         if not vols:
             raise SystemExit("error: %s contains no solid" % path)
@@ -131,6 +144,8 @@ def load_geometry(path, units, feature_angle, tmpdir):
         tris = read_stl(path)
         if units == "m":
             tris = tris * 1000.0
+        if rotation is not None:
+            tris = tris @ np.asarray(rotation).T
         tmp = os.path.join(tmpdir, "in-%d.stl" % len(os.listdir(tmpdir)))
         write_stl_binary(tmp, tris)
         gmsh.merge(tmp)
@@ -288,7 +303,7 @@ class Part:
     def __init__(self, role, path, args, tmpdir):
         self.role, self.path = role, path
         gmsh.model.add(role)
-        self.vol, self.tris = load_geometry(path, args.units, args.feature_angle, tmpdir)
+        self.vol, self.tris = load_geometry(path, args.units, args.feature_angle, tmpdir, args.rotation)
         self.cad = self.tris is None
         if not self.cad:
             # STL: classify from the file's own triangles
@@ -433,6 +448,67 @@ def min_vertical_gap(fem, tib):
     return float(g.min())
 
 
+def parse_rotation(text):
+    """--rotation: nine numbers, the rows of R (x_ours = R x_file), which
+    must be a rotation (orthonormal to 1e-4, determinant +1)."""
+    try:
+        r = np.array([float(t) for t in text.split(",")])
+    except ValueError:
+        raise SystemExit("error: --rotation needs nine numbers R11,R12,...,R33 (got %r)" % text)
+    if r.shape != (9,):
+        raise SystemExit("error: --rotation needs nine numbers R11,R12,...,R33 (got %d)" % r.size)
+    r = r.reshape(3, 3)
+    err = np.abs(r @ r.T - np.eye(3)).max()
+    if err > 1e-4 or np.linalg.det(r) < 0:
+        raise SystemExit("error: --rotation is not a rotation (R R^T differs from I by %.2g, det %.4g): "
+                         "give the rows as unit vectors, orthogonal, right-handed" % (err, np.linalg.det(r)))
+    return r
+
+
+def bounding_box(role, path, args, tmpdir):
+    """Lower and upper corner of a body in our frame (units and rotation
+    applied), read in a scratch gmsh model."""
+    if os.path.splitext(path)[1].lower() == ".stl":
+        p = read_stl(path).reshape(-1, 3) * (1000.0 if args.units == "m" else 1.0)
+        if args.rotation is not None:
+            p = p @ args.rotation.T
+        return p.min(axis=0), p.max(axis=0)
+    gmsh.model.add("probe-" + role)
+    try:
+        import_cad(path, args.rotation)
+        box = np.array(gmsh.model.getBoundingBox(-1, -1))
+    finally:
+        gmsh.model.remove()
+    return box[:3], box[3:]
+
+
+def check_frame(args, tmpdir):
+    """Our axes: x medial-lateral, y anterior-posterior, z axial (femur
+    above the insert). Refuse, with what was found, an insert that is not
+    thinnest along z, a femur not above the insert, or bodies that do not
+    overlap in plan (then the articular faces cannot face each other)."""
+    flo, fhi = bounding_box("femur", args.femur, args, tmpdir)
+    tlo, thi = bounding_box("tibia", args.insert, args, tmpdir)
+    ext = thi - tlo
+    hint = ("our axes are x medial-lateral, y anterior-posterior, z axial with the femur above the "
+            "insert: turn the input with --rotation R11,...,R33 (rows: our x, y, z axes in the file's "
+            "frame) or in your CAD tool")
+    print("insert: %.1f x %.1f x %.1f mm (x, y, z); femur z %.1f .. %.1f, insert z %.1f .. %.1f"
+          % (ext[0], ext[1], ext[2], flo[2], fhi[2], tlo[2], thi[2]))
+    if ext[2] >= min(ext[0], ext[1]):
+        raise SystemExit("error: the insert is %.1f x %.1f x %.1f mm along x, y, z, not thinnest along z "
+                         "(its thickness); %s" % (ext[0], ext[1], ext[2], hint))
+    if 0.5 * (flo[2] + fhi[2]) <= 0.5 * (tlo[2] + thi[2]):
+        raise SystemExit("error: the femur (z %.1f .. %.1f mm) is not above the insert (z %.1f .. %.1f mm); %s"
+                         % (flo[2], fhi[2], tlo[2], thi[2], hint))
+    overlap = np.minimum(fhi[:2], thi[:2]) - np.maximum(flo[:2], tlo[:2])
+    if (overlap <= 0.5 * ext[:2]).any():
+        raise SystemExit("error: in plan the femur (x %.1f .. %.1f, y %.1f .. %.1f mm) covers less than half "
+                         "of the insert (x %.1f .. %.1f, y %.1f .. %.1f mm): the articular surfaces do not "
+                         "face each other; %s" % (flo[0], fhi[0], flo[1], fhi[1], tlo[0], thi[0], tlo[1],
+                                                  thi[1], hint))
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="mesh-implant", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -440,6 +516,10 @@ def main(argv=None):
     ap.add_argument("--insert", required=True, help="tibial insert (.step/.stp/.iges/.brep/.stl)")
     ap.add_argument("-o", "--output", required=True, help="output .msh (ASCII 4.1)")
     ap.add_argument("--units", choices=("mm", "m"), default="mm", help="unit of STL coordinates (default mm)")
+    ap.add_argument("--rotation", type=parse_rotation,
+                    help="R11,R12,R13,R21,...,R33: turn both inputs by this rotation, x_ours = R x_file "
+                         "(the rows are our x (medial-lateral), y (anterior-posterior), z (axial, towards "
+                         "the femur) axes written in the file's frame)")
     ap.add_argument("--method", choices=("auto", "layer", "split"), default="auto",
                     help="auto (default): swept insert where possible, contact layer otherwise; "
                          "layer: contact layer on both bodies; split: tetrahedra split into hexahedra")
@@ -480,6 +560,7 @@ def main(argv=None):
     gmsh.initialize(["gmsh", "-v", "1"])
     try:
         with tempfile.TemporaryDirectory() as tmpdir:
+            check_frame(args, tmpdir)
             if args.method == "split":
                 fem = mesh_body_robust("femur", args.femur, args, tmpdir)
                 tib = mesh_body_robust("tibia", args.insert, args, tmpdir)
