@@ -111,6 +111,31 @@ def write_stl_binary(path, tris):
             f.write(struct.pack("<12fH", *nrm, *t.reshape(-1), 0))
 
 
+CAD_EXTENSIONS = (".step", ".stp", ".iges", ".igs", ".brep")
+
+# Known gmsh failures on users' surfaces and what to try (mesh-implant says
+# them instead of a traceback).
+GMSH_HINTS = (
+    ("Wrong topology of boundary mesh for parametrization",
+     "the surface could not be split into faces that gmsh can parametrise (typical of decimated or "
+     "scanned STL surfaces): try --feature-angle 60 or 89, or repair and remesh the surface first"),
+    ("intersect", "the surface intersects itself: remove the self-intersections before meshing"),
+    ("Could not read file", "the file could not be read as the format its name says: export it again"),
+    ("overlapping facets", "the tetrahedral mesher met overlapping facets: try another --contact-size or "
+                           "--method split"),
+)
+
+
+def gmsh_failure(exc):
+    """One line for a gmsh exception: what gmsh said and what to try."""
+    text = str(exc).strip() or type(exc).__name__
+    for key, hint in GMSH_HINTS:
+        if key in text:
+            return "error: gmsh: %s; %s" % (text, hint)
+    return ("error: gmsh: %s; try --method split, other sizes, or check the input surfaces "
+            "(closed, not self-intersecting)" % text)
+
+
 def import_cad(path, rotation):
     """Import a STEP/IGES/BREP file into the current gmsh model, turned by
     `rotation` (x_ours = R x_file) if given."""
@@ -128,7 +153,7 @@ def load_geometry(path, units, feature_angle, tmpdir, rotation=None):
     3x3 matrix `rotation` (x_ours = R x_file) if given; return its volume
     tag and, for an STL, its triangles."""
     ext = os.path.splitext(path)[1].lower()
-    if ext in (".step", ".stp", ".iges", ".igs", ".brep"):
+    if ext in CAD_EXTENSIONS:
         import_cad(path, rotation)
         vols = gmsh.model.getEntities(3)
         if not vols:
@@ -554,6 +579,12 @@ def main(argv=None):
         ap.add_argument("--" + g.replace("_", "-") + "-faces", dest=g + "_faces",
                         help="comma-separated face ids (see the table) for %s, replacing the rule" % g)
     args = ap.parse_args(argv)
+    for option, path in (("--femur", args.femur), ("--insert", args.insert)):
+        if not os.path.isfile(path):
+            raise SystemExit("error: %s %s: no such file" % (option, path))
+        if os.path.splitext(path)[1].lower() not in CAD_EXTENSIONS + (".stl",):
+            raise SystemExit("error: %s %s: unknown file type (use .step/.stp/.iges/.igs/.brep or .stl)"
+                             % (option, path))
     if args.contact_size is None:
         args.contact_size = 4.0 if args.method == "split" else 3.0
 
@@ -628,5 +659,21 @@ def main(argv=None):
     return 0
 
 
+def run(argv=None):
+    """main() with every failure as one message and exit 1, never a
+    traceback (SystemExit messages pass through)."""
+    try:
+        return main(argv)
+    except SystemExit:
+        raise
+    except KeyboardInterrupt:
+        raise SystemExit("error: interrupted")
+    except Exception as exc:  # gmsh raises plain Exception
+        if type(exc) is Exception:
+            raise SystemExit(gmsh_failure(exc))
+        raise SystemExit("error: %s: %s (an internal error of mesh-implant; please report it with the "
+                         "command line)" % (type(exc).__name__, exc))
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run())
