@@ -218,14 +218,8 @@ namespace TKR::Gait
   RigidMotion
   GaitLoads::femur_motion(const GaitState &state) const
   {
-    const double theta = state.flexion * numbers::PI / 180.;
-    RigidMotion  motion;
-    motion.rotation[1][1] = std::cos(theta);
-    motion.rotation[1][2] = -std::sin(theta);
-    motion.rotation[2][1] = std::sin(theta);
-    motion.rotation[2][2] = std::cos(theta);
-    const Point<3> &P     = parameters.flexion_axis_point;
-    motion.translation    = P - motion.rotation * P;
-    return motion;
+    return RigidMotion::rotation_about(0,
+                                       state.flexion,
+                                       parameters.flexion_axis_point);
   }
 } // namespace TKR::Gait

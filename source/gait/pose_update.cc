@@ -123,18 +123,6 @@ namespace TKR::Gait
     return result;
   }
 
-  double
-  PoseUpdate::relaxation() const
-  {
-    return lambda;
-  }
-
-  bool
-  PoseUpdate::bracketing() const
-  {
-    return active < n;
-  }
-
   bool
   PoseUpdate::bracketed_ever() const
   {

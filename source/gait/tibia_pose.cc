@@ -232,14 +232,11 @@ namespace TKR::Gait
   RigidMotion
   TibiaPose::motion(const PoseState &pose) const
   {
-    const double theta = pose.rotation * numbers::PI / 180.;
-    RigidMotion  motion;
-    motion.rotation[0][0] = motion.rotation[1][1] = std::cos(theta);
-    motion.rotation[0][1]                         = -std::sin(theta);
-    motion.rotation[1][0]                         = std::sin(theta);
-    Point<3> c         = gait_loads.inferior_centroid();
-    c[2]               = 0;
-    motion.translation = c - motion.rotation * c + pose.translation;
+    RigidMotion motion =
+      RigidMotion::rotation_about(2,
+                                  pose.rotation,
+                                  gait_loads.inferior_centroid());
+    motion.translation += pose.translation;
     return motion;
   }
 
@@ -376,7 +373,6 @@ namespace TKR::Gait
         pose.restraint_torque = next[5];
         ++result.n_updates;
       }
-    result.bracketed = update.bracketed_ever();
     return result;
   }
 } // namespace TKR::Gait

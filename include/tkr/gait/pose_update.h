@@ -59,14 +59,6 @@ namespace TKR::Gait
     Vector
     next(const Vector &q, const Vector &d, const Vector &r);
 
-    /** The relaxation of the last step. */
-    double
-    relaxation() const;
-
-    /** Whether a component is being bracketed now. */
-    bool
-    bracketing() const;
-
     /** Whether any component was bracketed in this iteration. */
     bool
     bracketed_ever() const;

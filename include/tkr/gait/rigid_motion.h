@@ -4,9 +4,12 @@
 #ifndef tkr_gait_rigid_motion_h
 #define tkr_gait_rigid_motion_h
 
+#include <deal.II/base/numbers.h>
 #include <deal.II/base/point.h>
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/tensor.h>
+
+#include <cmath>
 
 namespace TKR::Gait
 {
@@ -39,6 +42,26 @@ namespace TKR::Gait
     serialize(Archive &archive, const unsigned int)
     {
       archive &rotation &translation;
+    }
+
+    /**
+     * The rotation by @p degrees (right-handed) about the line through
+     * @p point along the coordinate axis @p axis (0: x, 1: y, 2: z).
+     */
+    static RigidMotion
+    rotation_about(const unsigned int      axis,
+                   const double            degrees,
+                   const dealii::Point<3> &point)
+    {
+      const double       theta = degrees * dealii::numbers::PI / 180.;
+      const unsigned int i = (axis + 1) % 3, j = (axis + 2) % 3;
+      RigidMotion        motion;
+      motion.rotation[i][i] = std::cos(theta);
+      motion.rotation[i][j] = -std::sin(theta);
+      motion.rotation[j][i] = std::sin(theta);
+      motion.rotation[j][j] = std::cos(theta);
+      motion.translation    = point - motion.rotation * point;
+      return motion;
     }
   };
 

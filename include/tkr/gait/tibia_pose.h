@@ -68,11 +68,6 @@ namespace TKR::Gait
     double residual = 0;
     /** The pose and the restraints met the pose tolerance. */
     bool converged = false;
-    /**
-     * Some component of the pose oscillated and was found by bracketing
-     * (PoseUpdate) rather than by the relaxed step.
-     */
-    bool bracketed = false;
     /** The rigid part of the elastic displacement of the last solve. */
     InferiorMotion motion;
   };
