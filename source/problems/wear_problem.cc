@@ -92,17 +92,18 @@ namespace TKR::Problems
     const auto &reports  = cycle.get_reports();
     unbalanced_steps.clear();
     for (unsigned int s = 0; s < reports.size(); ++s)
-      if (reports[s].converged && !(protocol.load_balance(reports[s]) <= 1.))
-        unbalanced_steps.push_back(s);
-    for (unsigned int s = 0; s < reports.size(); ++s)
-      if (!reports[s].converged ||
-          std::find(unbalanced_steps.begin(), unbalanced_steps.end(), s) !=
-            unbalanced_steps.end())
-        state.failed_steps.push_back({state.block + 1,
-                                      s,
-                                      reports[s].pose_residual,
-                                      reports[s].contact_converged,
-                                      protocol.load_balance(reports[s])});
+      {
+        const double balance    = protocol.load_balance(reports[s]);
+        const bool   unbalanced = reports[s].converged && !(balance <= 1.);
+        if (unbalanced)
+          unbalanced_steps.push_back(s);
+        if (!reports[s].converged || unbalanced)
+          state.failed_steps.push_back({state.block + 1,
+                                        s,
+                                        reports[s].pose_residual,
+                                        reports[s].contact_converged,
+                                        balance});
+      }
     if (unbalanced_steps.empty())
       return;
     state.converged = false;
@@ -306,13 +307,7 @@ namespace TKR::Problems
              << " s/block, ETA " << std::setprecision(0) << remaining / 60.
              << " min";
       }
-    model.pcout() << line.str() << std::endl;
-    if (Utilities::MPI::this_mpi_process(model.world()) == 0)
-      {
-        std::ofstream log(parameters.output.directory + "/progress.log",
-                          std::ios::app);
-        log << line.str() << std::endl;
-      }
+    say_progress(line.str());
   }
 
   // The tibia in its worn geometry with the accumulated depth, the wear
@@ -512,12 +507,18 @@ namespace TKR::Problems
          << ", step "
          << (state.failed_steps.empty() ? 0 : state.failed_steps[0].step)
          << "): these results are not converged, exit code 1.";
-    model.pcout() << line.str() << std::endl;
+    say_progress(line.str());
+  }
+
+  void
+  WearProblem::say_progress(const std::string &line) const
+  {
+    model.pcout() << line << std::endl;
     if (Utilities::MPI::this_mpi_process(model.world()) == 0)
       {
         std::ofstream log(model.parameters().output.directory + "/progress.log",
                           std::ios::app);
-        log << line.str() << std::endl;
+        log << line << std::endl;
       }
   }
 } // namespace TKR::Problems

@@ -126,6 +126,10 @@ namespace TKR::Problems
     void
     report_failure() const;
 
+    /** A line on the screen and at the end of progress.log (rank 0). */
+    void
+    say_progress(const std::string &line) const;
+
     const bool                     resume;
     const StepGroups               groups;
     TwoBodyModel                   model;
