@@ -100,6 +100,16 @@ def read_stl(path):
     return np.array(vals).reshape(-1, 3, 3)
 
 
+def read_stl_in_frame(path, units, rotation):
+    """The triangles of an STL file in mm and in our frame (x_ours = R x_file)."""
+    tris = read_stl(path)
+    if units == "m":
+        tris = tris * 1000.0
+    if rotation is not None:
+        tris = tris @ np.asarray(rotation).T
+    return tris
+
+
 def write_stl_binary(path, tris):
     with open(path, "wb") as f:
         f.write(b"mesh-implant".ljust(80, b" "))
@@ -166,11 +176,7 @@ def load_geometry(path, units, feature_angle, tmpdir, rotation=None):
                 raise SystemExit("error: %s holds %d disjoint solids" % (path, len(vols)))
         return vols[0][1], None
     if ext == ".stl":
-        tris = read_stl(path)
-        if units == "m":
-            tris = tris * 1000.0
-        if rotation is not None:
-            tris = tris @ np.asarray(rotation).T
+        tris = read_stl_in_frame(path, units, rotation)
         tmp = os.path.join(tmpdir, "in-%d.stl" % len(os.listdir(tmpdir)))
         write_stl_binary(tmp, tris)
         gmsh.merge(tmp)
@@ -321,6 +327,16 @@ def print_table(role, path, rows, groups):
 
 
 # ----------------------------------------------------------------- meshing
+def generate_plain(dim, size_max):
+    """Mesh the current model up to dimension `dim` with elements of at most
+    `size_max` mm and no subdivision (the passes that classify faces or
+    sample surfaces)."""
+    gmsh.option.setNumber("Mesh.MeshSizeMax", size_max)
+    gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
+    gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 0)
+    gmsh.model.mesh.generate(dim)
+
+
 class Part:
     """One body loaded into its own gmsh model (named after its role), with
     its faces classified into groups."""
@@ -335,10 +351,7 @@ class Part:
             rows, lo, hi = face_table_stl(self.vol, self.tris)
         else:
             # pass 1: coarse tetrahedra to classify the faces
-            gmsh.option.setNumber("Mesh.MeshSizeMax", 2.0 * args.size)
-            gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
-            gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 0)
-            gmsh.model.mesh.generate(3)
+            generate_plain(3, 2.0 * args.size)
             rows, lo, hi = face_table(self.vol)
             gmsh.model.mesh.clear()
         # (an STL's discrete surfaces keep their triangles: clearing them
@@ -369,10 +382,7 @@ class Part:
         """Points on the articular faces, about `spacing` mm apart."""
         gmsh.model.setCurrent(self.role)
         if self.cad:
-            gmsh.option.setNumber("Mesh.MeshSizeMax", spacing)
-            gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
-            gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 0)
-            gmsh.model.mesh.generate(2)
+            generate_plain(2, spacing)
         pts = [gmsh.model.mesh.getNodes(2, s, includeBoundary=True)[1].reshape(-1, 3) for s in self.contact]
         if self.cad:
             gmsh.model.mesh.clear()
@@ -386,10 +396,7 @@ class Part:
             # structured columns under a plan grid (insert_sweep.py)
             try:
                 if self.cad:
-                    gmsh.option.setNumber("Mesh.MeshSizeMax", args.sweep_size)
-                    gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
-                    gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 0)
-                    gmsh.model.mesh.generate(2)
+                    generate_plain(2, args.sweep_size)
                 out = insert_sweep.mesh_insert(self.vol, self.groups, args.sweep_size,
                                                args.sweep_cells, args.sweep_top_cell, self.cad)
                 self.method = "swept columns"
@@ -490,13 +497,11 @@ def parse_rotation(text):
     return r
 
 
-def bounding_box(role, path, args, tmpdir):
+def bounding_box(role, path, args):
     """Lower and upper corner of a body in our frame (units and rotation
-    applied), read in a scratch gmsh model."""
+    applied); a CAD file is read in a scratch gmsh model."""
     if os.path.splitext(path)[1].lower() == ".stl":
-        p = read_stl(path).reshape(-1, 3) * (1000.0 if args.units == "m" else 1.0)
-        if args.rotation is not None:
-            p = p @ args.rotation.T
+        p = read_stl_in_frame(path, args.units, args.rotation).reshape(-1, 3)
         return p.min(axis=0), p.max(axis=0)
     gmsh.model.add("probe-" + role)
     try:
@@ -507,13 +512,13 @@ def bounding_box(role, path, args, tmpdir):
     return box[:3], box[3:]
 
 
-def check_frame(args, tmpdir):
+def check_frame(args):
     """Our axes: x medial-lateral, y anterior-posterior, z axial (femur
     above the insert). Refuse, with what was found, an insert that is not
     thinnest along z, a femur not above the insert, or bodies that do not
     overlap in plan (then the articular faces cannot face each other)."""
-    flo, fhi = bounding_box("femur", args.femur, args, tmpdir)
-    tlo, thi = bounding_box("tibia", args.insert, args, tmpdir)
+    flo, fhi = bounding_box("femur", args.femur, args)
+    tlo, thi = bounding_box("tibia", args.insert, args)
     ext = thi - tlo
     hint = ("our axes are x medial-lateral, y anterior-posterior, z axial with the femur above the "
             "insert: turn the input with --rotation R11,...,R33 (rows: our x, y, z axes in the file's "
@@ -591,7 +596,7 @@ def main(argv=None):
     gmsh.initialize(["gmsh", "-v", "1"])
     try:
         with tempfile.TemporaryDirectory() as tmpdir:
-            check_frame(args, tmpdir)
+            check_frame(args)
             if args.method == "split":
                 fem = mesh_body_robust("femur", args.femur, args, tmpdir)
                 tib = mesh_body_robust("tibia", args.insert, args, tmpdir)
