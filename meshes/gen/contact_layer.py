@@ -625,14 +625,28 @@ def contact_layer_quality(nodes, hexes, surfaces):
     return out
 
 
-def mesh_body(vol, groups, size_field, size, layers, thickness, ratio, cad, notes):
+def mesh_body(vol, groups, size_field, size, layers, thickness, ratio, cad, notes, fine_faces=None,
+              smooth=None):
     """Steps 1-4 for volume `vol` of the current gmsh model (its faces
     classified into `groups`; sizes from size_field, a SizeField; cad: new
     boundary nodes go onto the OpenCASCADE faces, else onto the boundary
-    triangulation; notes: a list that gets a line on what had to give way).
-    Returns (nodes, hexes, surfaces)."""
+    triangulation; notes: a list that gets a line on what had to give way;
+    fine_faces: {face: triangles (T x 3 x 3)}, a finer surface that new
+    boundary nodes on faces go onto instead, and then, on the faces in
+    smooth ({face: project(points)}), onto a smooth surface).  Returns
+    (nodes, hexes, surfaces)."""
     X, tris, face, ent, curve_edges = triangulate_boundary(vol, groups, size_field, size)
     project = cad_projector() if cad else mesh_projector(X, tris, face, curve_edges)
+    if fine_faces is not None:
+        on_fine, on_mesh, smooth = surface_projector(fine_faces), project, smooth or {}
+
+        def project(kind, tag, P):
+            if kind != 2:
+                return on_mesh(kind, tag, P)
+            P = on_fine(kind, tag, P)
+            if tag in smooth and len(P):
+                P = smooth[tag](P.reshape(-1, 3)).reshape(P.shape)
+            return P
     body = build_layer(X, tris, face, ent, groups, layers, thickness, ratio, project)
     tets = mesh_core(body, size)
     out = split_into_hexes(body, tets, groups, curve_edges, project)
@@ -685,6 +699,26 @@ def mesh_projector(X, tris, face, curve_edges):
             return closest_on_triangles(P, by_face[tag])
         S = np.array(by_curve[tag])
         return closest_on_triangles(P, np.stack([S[:, 0], S[:, 1], S[:, 1]], axis=1))
+    return project
+
+
+def surface_projector(by_face, candidates=16):
+    """project(kind, tag, points) onto the closest of the triangles
+    by_face[tag] (T x 3 x 3; among the `candidates` nearest by centroid) for
+    faces (kind 2); other points stay: for surfaces tagged per patch (no
+    curves), projected onto their finer repaired surface."""
+    from scipy.spatial import cKDTree
+    trees = {s: cKDTree(T.mean(axis=1)) for s, T in by_face.items() if len(T)}
+
+    def project(kind, tag, P):
+        P = np.asarray(P, float)
+        if kind != 2 or tag not in trees or len(P) == 0:
+            return P
+        T = by_face[tag]
+        _, idx = trees[tag].query(P.reshape(-1, 3), k=min(candidates, len(T)))
+        idx = idx.reshape(len(idx), -1)
+        out = np.array([closest_on_triangles(p[None], T[i])[0] for p, i in zip(P.reshape(-1, 3), idx)])
+        return out.reshape(P.shape)
     return project
 
 

@@ -89,19 +89,22 @@ def node_normals(faces, cad):
     return out
 
 
-def sort_faces(faces, groups, normals):
+def sort_faces(faces, groups, normals, flat_tol=1e-6, flat_normal=0.9999):
     """Base, walls and top of an insert: the base is the tibia_inferior
     faces (flat, at one height, facing down), walls are vertical faces, the
     top all others, which must face up everywhere (a height field).
-    normals: node_normals().  Returns (base faces, base height, walls,
+    normals: node_normals(); flat_tol (mm) and flat_normal (smallest -n_z):
+    how flat the base must be (a scanned base is flattened to its mean
+    height within flat_tol).  Returns (base faces, base height, walls,
     top).  Raises NotSweepable."""
     base = [s for s in faces if groups.get(s) == "tibia_inferior"]
     if not base:
         raise NotSweepable("the insert has no tibia_inferior face")
     z = np.concatenate([faces[s][0][..., 2].ravel() for s in base])
     z0 = float(z.mean())
-    if np.ptp(z) > 1e-6 or any(np.min(-normals[s][:, 2]) < 0.9999 for s in base):
-        raise NotSweepable("the base (faces %s) is not flat and horizontal" % base)
+    if np.ptp(z) > flat_tol or any(np.min(-normals[s][:, 2]) < flat_normal for s in base):
+        raise NotSweepable("the base (faces %s) is not flat and horizontal (heights %.3g .. %.3g mm, "
+                           "within %g)" % (base, z.min(), z.max(), flat_tol))
     walls, top = [], []
     for s in faces:
         n = normals[s]
@@ -146,7 +149,9 @@ class Top:
     """Vertical projection onto the top faces: a plan lookup in their
     triangles, refined on the CAD faces (project=True)."""
 
-    def __init__(self, faces, top, cad, cell=2.0):
+    def __init__(self, faces, top, cad, cell=2.0, fine=None, smooth=None):
+        self.fine = None if fine is None else Top({0: (fine, None)}, [0], False, cell)
+        self.smooth = smooth
         self.P = np.concatenate([faces[s][0] for s in top])
         self.face = np.concatenate([np.full(len(faces[s][0]), s) for s in top])
         self.cad = cad
@@ -197,10 +202,16 @@ class Top:
         for i, p in enumerate(XY):
             t, z[i] = self.locate(p)
             f[i] = self.face[t]
+            if self.fine is not None:
+                z[i] = self.fine.locate(p)[1]
         if self.cad:
             for s in np.unique(f):
                 m = np.where(f == s)[0]
                 z[m] = self._newton(s, XY[m], z[m])
+        if self.smooth is not None and len(z):
+            for _ in range(2):   # along the normal, then back above XY
+                P = self.smooth(np.column_stack([XY, z]))
+                z = z + (P[:, 2] - z)
         return z, f
 
     @staticmethod
@@ -380,7 +391,7 @@ def coons(B):
 
 
 # ------------------------------------------------------------------ body
-def mesh_insert(vol, groups, h, cells, top_cell, cad):
+def mesh_insert(vol, groups, h, cells, top_cell, cad, fine=None, smooth=None):
     """The swept insert (steps 1-3) for volume `vol` of the current gmsh
     model, whose boundary is triangulated (any size; it locates the top
     faces).  groups: face -> group.  Returns (nodes, hexes, surfaces).
@@ -391,11 +402,15 @@ def mesh_insert(vol, groups, h, cells, top_cell, cad):
     the plan grid has lines along the feature's sides; under the feature
     the columns end at the articular surface interpolated (transfinite)
     from the feature's edges; above them the feature's columns go up to its
-    top with cells about h high.  Raises NotSweepable."""
+    top with cells about h high.  fine: finer triangles of the same
+    surface (T x 3 x 3) whose upward ones give the heights of the top (an
+    STL repaired by tkr-surface), then put onto smooth(points) (a smooth
+    surface through the input's vertices).  Raises NotSweepable."""
     faces = boundary_triangles(vol)
     if not cad:
         faces, groups = split_stl_faces(faces, groups)
-    base, z0, walls, top = sort_faces(faces, groups, node_normals(faces, cad))
+    flat = (1e-6, 0.9999) if cad else (0.1, 0.98)   # STL: a scanned base within 0.1 mm
+    base, z0, walls, top = sort_faces(faces, groups, node_normals(faces, cad), *flat)
     P = np.concatenate([faces[s][0] for s in base])
     w = 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1)
     c = (w[:, None] * P.mean(axis=1)[:, :2]).sum(axis=0) / w.sum()
@@ -403,7 +418,10 @@ def mesh_insert(vol, groups, h, cells, top_cell, cad):
     tol = 1e-3 if cad else 0.5   # STL: chordal error of the walls
     inner = [s for s in walls if plan_distance(faces[s][0][..., :2].reshape(-1, 2), segs).max() > tol]
     feature = raised_feature(faces, inner, tol) if inner else None
-    top_lookup = Top(faces, top, cad)
+    if fine is not None:
+        n = np.cross(fine[:, 1] - fine[:, 0], fine[:, 2] - fine[:, 0])
+        fine = fine[n[:, 2] > 0.05 * np.linalg.norm(n, axis=1)]
+    top_lookup = Top(faces, top, cad, fine=fine, smooth=smooth)
     blocks = plan_blocks(c, segs, h, feature)
     columns = []
     for B in blocks:

@@ -191,6 +191,177 @@ def load_geometry(path, units, feature_angle, tmpdir, rotation=None):
     raise SystemExit("error: unknown file type %s (use .step/.stp/.iges/.brep/.stl)" % path)
 
 
+# ---------------------------------------------------- surface repair (CGAL)
+def surface_tool():
+    """The tkr-surface executable (apps/surface.cc): $TKR_SURFACE, the build
+    trees of this checkout, or the PATH."""
+    import glob
+    import shutil
+    root = os.path.dirname(os.path.dirname(HERE))
+    for c in ([os.environ.get("TKR_SURFACE", "")] + [os.path.join(root, "build", "release", "tkr-surface")]
+              + sorted(glob.glob(os.path.join(root, "build", "*", "tkr-surface"))) + [shutil.which("tkr-surface")]):
+        if c and os.path.isfile(c) and os.access(c, os.X_OK):
+            return c
+    raise SystemExit("error: tkr-surface (the surface check and repair of STL inputs, apps/surface.cc) is not "
+                     "built: build tkr-wear (scripts/run-tests or cmake and make in build/release), set "
+                     "TKR_SURFACE to its path, or give --surface as-is to mesh the STL triangles as they are")
+
+
+def run_surface_tool(args, role, cmd, shown, log):
+    """tkr-surface with its lines printed and logged as "surface ROLE: ...";
+    a failure ends mesh-implant with one message."""
+    import subprocess
+    res = subprocess.run([surface_tool()] + cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    lines = res.stdout.splitlines()
+    for path, name in shown.items():
+        lines = [ln.replace(path, name) for ln in lines]
+    for ln in lines:
+        print("surface %s: %s" % (role, ln))
+    log += ["surface %s: %s" % (role, ln) for ln in lines]
+    if res.returncode != 0:
+        last = lines[-1] if lines else "tkr-surface exited with %d" % res.returncode
+        raise SystemExit("error: the surface of the %s could not be made valid (%s); try another "
+                         "--surface-size or --contact-size, or repair it in a CAD tool"
+                         % (role, last.replace("error: ", "")))
+
+
+def prepare_surfaces(args, tmpdir, log):
+    """--surface remesh (both inputs STL): each surface, in mm and our
+    frame, checked, repaired and remeshed with edges of --surface-size by
+    tkr-surface; its triangles tagged from the pair's geometry
+    (surface_tags.py) or from the --*-contact-stl patches; then remeshed
+    again with --contact-size on the contact triangles and --size/2
+    elsewhere, and the tags carried over (nearest triangle).  Sets
+    args.tagged = {role: (triangles, labels, fine triangles, fine labels)}."""
+    import surface_tags
+    from scipy.spatial import cKDTree
+    paths = {"femur": args.femur, "tibia": args.insert}
+    clean, final, smooth = {}, {}, {}
+    for role, p in paths.items():
+        raw = os.path.join(tmpdir, "%s-frame.stl" % role)
+        given = read_stl_in_frame(p, args.units, args.rotation)
+        write_stl_binary(raw, given)
+        edge = np.median(np.linalg.norm(given - np.roll(given, 1, axis=1), axis=2))
+        smooth[role] = surface_tags.SmoothSurface(given, max(args.smooth_radius, 2.5 * edge))
+        clean[role] = os.path.join(tmpdir, "%s-clean.stl" % role)
+        run_surface_tool(args, role, [raw, clean[role], "--size", str(args.surface_size), "--feature-angle",
+                                      str(args.feature_angle), "--wrap-alpha", str(0.5 * args.surface_size)],
+                         {raw: p}, log)
+    tris = {role: read_stl(clean[role]) for role in paths}
+    patches = [None if q is None else read_stl_in_frame(q, args.units, args.rotation)
+               for q in (args.femur_contact_stl, args.insert_contact_stl)]
+    try:
+        labels = dict(zip(("femur", "tibia"), surface_tags.tag_pair(
+            tris["femur"], tris["tibia"], args.contact_distance, *patches,
+            patch_tol=max(0.5, args.surface_size))[:2]))
+    except ValueError as e:
+        raise SystemExit("error: tagging the surfaces: %s; check the frame (--rotation, femur resting on the "
+                         "insert), widen --contact-distance, or give --femur-contact-stl/--insert-contact-stl"
+                         % e)
+    args.tagged = {}
+    for role in paths:
+        contact = os.path.join(tmpdir, "%s-contact.stl" % role)
+        write_stl_binary(contact, tris[role][labels[role] == surface_tags.CONTACT])
+        final[role] = os.path.join(tmpdir, "%s-final.stl" % role)
+        run_surface_tool(args, role, [clean[role], final[role], "--size", str(max(args.contact_size, 0.5 * args.size)),
+                                      "--contact-size", str(args.contact_size), "--near", contact,
+                                      "--near-distance", str(0.5 * args.surface_size),
+                                      "--feature-angle", str(args.feature_angle),
+                                      "--wrap-alpha", str(0.5 * args.surface_size)],
+                         {clean[role]: "the repaired surface", contact: "its contact triangles"}, log)
+        T = read_stl(final[role])
+        _, nearest = cKDTree(tris[role].mean(axis=1)).query(T.mean(axis=1))
+        a = 0.5 * np.linalg.norm(np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]), axis=1)
+        patch = surface_tags.patches(T, args.patch_angle, 2.0 * args.contact_size ** 2)
+        uniform = surface_tags.by_patch(labels[role][nearest], patch, a)
+        # the articular triangles' corners onto the smooth surface through
+        # the given vertices (SmoothSurface)
+        pts, inv = np.unique(np.round(T.reshape(-1, 3), 9), axis=0, return_inverse=True)
+        inv = inv.reshape(-1, 3)
+        on = np.unique(inv[uniform == surface_tags.CONTACT])
+        pts[on] = smooth[role].project(pts[on])
+        T = pts[inv]
+        # each triangle of the repaired surface belongs to the patch of the
+        # remeshed triangle most parallel to it among the 8 nearest (the
+        # nearest alone may lie across a sharp edge): new boundary nodes go
+        # onto their own patch
+        _, cand = cKDTree(T.mean(axis=1)).query(tris[role].mean(axis=1), k=8)
+        _, n_fine = surface_tags.normals(tris[role])
+        _, n_final = surface_tags.normals(T)
+        best = np.argmax(np.einsum("ikj,ij->ik", n_final[cand], n_fine), axis=1)
+        args.tagged[role] = (T, uniform, patch, tris[role], patch[cand[np.arange(len(cand)), best]],
+                             smooth[role])
+        line = "%s: %d smooth patches (--patch-angle %g deg)" % (role, patch.max() + 1, args.patch_angle)
+        for code, name in [(surface_tags.UNTAGGED, "untagged")] + sorted(surface_tags.NAMES[role].items()):
+            m = uniform == code
+            line += "; %s %d patches, %.1f mm2" % (name, len(np.unique(patch[m])), a[m].sum())
+        print(line)
+        log.append(line)
+
+
+def load_tagged(tris, labels, patch, role):
+    """The current gmsh model from tagged triangles: one discrete surface per
+    smooth patch, one discrete curve per pair of neighbouring patches (their
+    common edges), one discrete point per node where three or more patches
+    meet, and the volume they bound.  Returns (volume, {surface: group name
+    or None}, {patch: surface})."""
+    import surface_tags
+    pts, inv = np.unique(np.round(tris.reshape(-1, 3), 9), axis=0, return_inverse=True)
+    T = inv.reshape(-1, 3)
+    E = np.sort(np.concatenate([T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]]), axis=1)
+    side = np.tile(np.arange(len(T)), 3)
+    order = np.lexsort((E[:, 1], E[:, 0]))
+    E, side = E[order], side[order]
+    first = np.flatnonzero((E[1:] == E[:-1]).all(axis=1))
+    pa, pb = patch[side[first]], patch[side[first + 1]]
+    border = pa != pb
+    edges, pairs = E[first][border], np.sort(np.stack([pa, pb], axis=1)[border], axis=1)
+    around = [set() for _ in range(len(pts))]
+    for tri, k in zip(T, patch):
+        for v in tri:
+            around[v].add(int(k))
+    owner = np.zeros(len(pts), bool)
+
+    def own(nodes):
+        nodes = np.unique(nodes)
+        nodes = nodes[~owner[nodes]]
+        owner[nodes] = True
+        return nodes
+    point_of = {}
+    for v in np.unique(edges):
+        if len(around[v]) >= 3:
+            point_of[int(v)] = gmsh.model.addDiscreteEntity(0)
+            gmsh.model.mesh.addNodes(0, point_of[int(v)], [v + 1], pts[v])
+            owner[v] = True
+    curves_of = {}
+    for pair in np.unique(pairs, axis=0):
+        m = (pairs == pair).all(axis=1)
+        ends = [point_of[int(v)] for v in np.unique(edges[m]) if int(v) in point_of]
+        c = gmsh.model.addDiscreteEntity(1, -1, ends)
+        nodes = own(edges[m])
+        if len(nodes):
+            gmsh.model.mesh.addNodes(1, c, nodes + 1, pts[nodes].reshape(-1))
+        gmsh.model.mesh.addElementsByType(c, 1, [], (edges[m] + 1).reshape(-1))
+        for k in pair:
+            curves_of.setdefault(int(k), []).append(c)
+    groups, surfs, surface_of = {}, [], {}
+    for k in np.unique(patch):
+        m = patch == k
+        s = gmsh.model.addDiscreteEntity(2, -1, curves_of.get(int(k), []))
+        nodes = own(T[m])
+        if len(nodes):
+            gmsh.model.mesh.addNodes(2, s, nodes + 1, pts[nodes].reshape(-1))
+        groups[s] = surface_tags.NAMES[role].get(int(labels[m][0]))
+        surfs.append((s, m))
+        surface_of[int(k)] = s
+    for s, m in surfs:
+        gmsh.model.mesh.addElementsByType(s, 2, [], (T[m] + 1).reshape(-1))
+    loop = gmsh.model.geo.addSurfaceLoop([s for s, _ in surfs])
+    vol = gmsh.model.geo.addVolume([loop])
+    gmsh.model.geo.synchronize()
+    return vol, groups, surface_of
+
+
 # --------------------------------------------------------- face statistics
 def face_table(vol):
     """Per boundary face of volume `vol` of the current tetrahedral mesh:
@@ -344,6 +515,18 @@ class Part:
     def __init__(self, role, path, args, tmpdir):
         self.role, self.path = role, path
         gmsh.model.add(role)
+        self.method, self.notes, self.fine_faces, self.smooth = None, [], None, {}
+        if role in getattr(args, "tagged", {}):
+            # repaired, remeshed and tagged per triangle (prepare_surfaces)
+            T, labels, patch, fine, fine_patch, smooth = args.tagged[role]
+            self.vol, self.groups, surface_of = load_tagged(T, labels, patch, role)
+            self.cad, self.tris = False, T
+            self.fine_faces = {s: fine[fine_patch == k] for k, s in surface_of.items()}
+            self.smooth = {s: smooth.project for s, g in self.groups.items()
+                           if g in contact_layer.CONTACT_GROUPS}
+            self.contact = [s for s, g in self.groups.items() if g in contact_layer.CONTACT_GROUPS]
+            return
+        shown = path
         self.vol, self.tris = load_geometry(path, args.units, args.feature_angle, tmpdir, args.rotation)
         self.cad = self.tris is None
         if not self.cad:
@@ -367,16 +550,15 @@ class Part:
                         groups[s] = None
                 for s in ids:
                     if s not in rows:
-                        raise SystemExit("error: %s has no face %d" % (path, s))
+                        raise SystemExit("error: %s has no face %d" % (shown, s))
                     groups[s] = g
-        print_table(role, path, rows, groups)
+        print_table(role, shown, rows, groups)
         for g in names:
             if not any(v == g for v in groups.values()):
                 raise SystemExit("error: no face of %s was assigned to %s; use --%s-faces"
-                                 % (path, g, g.replace("_", "-")))
+                                 % (shown, g, g.replace("_", "-")))
         self.groups = groups
         self.contact = [s for s, g in groups.items() if g in contact_layer.CONTACT_GROUPS]
-        self.method, self.notes = None, []
 
     def articular_points(self, spacing):
         """Points on the articular faces, about `spacing` mm apart."""
@@ -397,8 +579,10 @@ class Part:
             try:
                 if self.cad:
                     generate_plain(2, args.sweep_size)
+                fine = None if self.fine_faces is None else np.concatenate(list(self.fine_faces.values()))
+                smooth = next(iter(self.smooth.values()), None)
                 out = insert_sweep.mesh_insert(self.vol, self.groups, args.sweep_size,
-                                               args.sweep_cells, args.sweep_top_cell, self.cad)
+                                               args.sweep_cells, args.sweep_top_cell, self.cad, fine, smooth)
                 self.method = "swept columns"
                 return out
             except insert_sweep.NotSweepable as e:
@@ -412,10 +596,11 @@ class Part:
         gmsh.model.setCurrent(self.role)
         field = contact_layer.SizeField(own, near if args.refine_distance > 0 else None,
                                         args.contact_size, args.size, args.grading_distance,
-                                        args.refine_distance, contact_layer.width_caps())
+                                        args.refine_distance, contact_layer.width_caps() if self.cad else {})
         self.method = "contact layer"
         return contact_layer.mesh_body(self.vol, self.groups, field, args.size, args.layers,
-                                       args.layer_thickness, args.layer_ratio, self.cad, self.notes)
+                                       args.layer_thickness, args.layer_ratio, self.cad, self.notes,
+                                       self.fine_faces, self.smooth)
 
 
 def mesh_body(role, path, args, tmpdir, linear=False):
@@ -575,6 +760,24 @@ def main(argv=None):
     ap.add_argument("--sweep-top-cell", type=float, default=1.0,
                     help="auto, swept insert: thickness of the cells at the articular surface "
                          "where the insert is thinnest, mm")
+    ap.add_argument("--surface", choices=("remesh", "as-is"), default="remesh",
+                    help="STL: remesh (default): check, repair and remesh each STL surface with tkr-surface "
+                         "(CGAL) before meshing; as-is: mesh the STL triangles as they are")
+    ap.add_argument("--surface-size", type=float, default=1.0,
+                    help="STL, remesh: edge length of the repaired surface, which is the geometry the mesh "
+                         "follows and is tagged on, mm")
+    ap.add_argument("--contact-distance", type=float, default=3.0,
+                    help="STL, remesh: the contact groups are the triangles that come within this distance "
+                         "(mm) of the other body over the flexion range")
+    ap.add_argument("--smooth-radius", type=float, default=3.0,
+                    help="STL, remesh: radius (mm; at least 2.5 edges of the input) of the smooth surface "
+                         "fitted through the input's vertices that the articular nodes are put on")
+    ap.add_argument("--patch-angle", type=float, default=30.0,
+                    help="STL, remesh: dihedral angle (deg) above which an edge of the remeshed surface "
+                         "separates two patches; a group is given to whole patches")
+    ap.add_argument("--femur-contact-stl", help="STL, remesh: the femur's articular surface as its own STL "
+                                                "(same units and frame), instead of the proximity rule")
+    ap.add_argument("--insert-contact-stl", help="STL, remesh: the insert's articular surface as its own STL")
     ap.add_argument("--feature-angle", type=float, default=40.0,
                     help="STL: angle (deg) between facets that splits faces")
     ap.add_argument("--offset", help="DX,DY,DZ: translate the femur by this (mm) instead of "
@@ -593,10 +796,14 @@ def main(argv=None):
     if args.contact_size is None:
         args.contact_size = 4.0 if args.method == "split" else 3.0
 
+    inputs = (args.femur, args.insert)
     gmsh.initialize(["gmsh", "-v", "1"])
     try:
         with tempfile.TemporaryDirectory() as tmpdir:
             check_frame(args)
+            surface_log = []
+            if args.surface == "remesh" and all(p.lower().endswith(".stl") for p in inputs):
+                prepare_surfaces(args, tmpdir, surface_log)
             if args.method == "split":
                 fem = mesh_body_robust("femur", args.femur, args, tmpdir)
                 tib = mesh_body_robust("tibia", args.insert, args, tmpdir)
@@ -610,9 +817,10 @@ def main(argv=None):
     finally:
         gmsh.finalize()
     report = ["mesh-implant report (meshes/gen/mesh_implant.py)", "",
-              "femur:  %s" % args.femur, "insert: %s" % args.insert,
+              "femur:  %s" % inputs[0], "insert: %s" % inputs[1],
               "options: " + " ".join("--%s %s" % (k.replace("_", "-"), v) for k, v in sorted(vars(args).items())
-                                     if v is not None and k not in ("femur", "insert", "output")), ""]
+                                     if v is not None and k not in ("femur", "insert", "output", "tagged")),
+              ""] + surface_log + [""] * bool(surface_log)
 
     def say(line):
         print(line)

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# tkr-surface (apps/surface.cc, issue 19): a scan-like export of TKR C's
+# insert (meshes/gen/scanlike.py: subdivided, 0.01 mm noise, 3 folded
+# vertices, 2 duplicated triangles, 1 triangle left out, orientation
+# reversed) is reported with each defect counted and located, repaired and
+# remeshed into a closed, outward surface without self-intersections whose
+# volume is that of the clean export within 1 %; an unreadable file ends
+# with one error line and exit 1. Argument: the tkr-surface executable.
+set -uo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/checks.sh"
+tool=$1
+$py "$root/meshes/gen/scanlike.py" "$cad/tkr-c-insert.stl" "$work/scan.stl" --seed 3 --duplicates 2 \
+  --holes 1 --flip > /dev/null
+"$tool" "$work/scan.stl" "$work/out.stl" --size 1.5 > "$work/scan.log" 2>&1
+echo "exit $?" >> "$work/scan.log"
+"$tool" "$cad/tkr-c-insert.stl" "$work/clean.stl" --size 1.5 > "$work/clean.log" 2>&1
+cat "$work/scan.log"
+has() { grep -q -- "$1" "$work/scan.log"; }
+check "duplicates counted" has "defect: 2 duplicate triangles, at ("
+check "the hole's edges counted" has "defect: 3 open edges (used by one triangle), at ("
+check "inward orientation found" has "defect: 1 inward orientation"
+check "self-intersections counted and located" grep -qE "defect: [1-9][0-9]* pairs of intersecting triangles, at \(" "$work/scan.log"
+check "hole filled, orientation reversed" bash -c "grep -q 'repair: 1 holes filled' '$work/scan.log' && grep -q 'repair: orientation reversed' '$work/scan.log'"
+check "result valid" has "result: closed, outward, no self-intersection"
+check "exit 0" has "exit 0"
+check "the clean export has no defect" grep -q "defects: none" "$work/clean.log"
+volume() { sed -n 's/.*volume \([0-9.e+]*\) mm3.*/\1/p' "$1"; }
+close() { $py -c "import sys; a, b = float(sys.argv[1]), float(sys.argv[2]); print(a, b, abs(a / b - 1)); sys.exit(abs(a / b - 1) > 0.01)" "$@"; }
+check "volume within 1 % of the clean export's" close "$(volume "$work/scan.log")" "$(volume "$work/clean.log")"
+echo "solid nothing" > "$work/bad.stl"
+unreadable() {
+  "$tool" "$work/bad.stl" "$work/x.stl" > "$work/bad.log" 2>&1
+  local code=$?
+  cat "$work/bad.log"
+  [ "$code" -eq 1 ] && [ "$(wc -l < "$work/bad.log")" -eq 1 ] && grep -q "^error: .*not a readable STL file" "$work/bad.log"
+}
+check "unreadable file: one error line, exit 1" unreadable
+exit $failed
