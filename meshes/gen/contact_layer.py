@@ -287,8 +287,12 @@ def build_layer(X, tris, face, ent, groups, layers, thickness, ratio, project):
         on = [(s, v) for s, v in nrm[a].items() if s not in c_faces]
         d = layer_direction(cn, [v for _, v in on])
         if d is None:
+            # a corner of several non-articular faces that admits no
+            # direction inside all of them: straight in along the mean
+            # articular normal, on no face (allowed at a few nodes)
             bad.append(X[a])
-            continue
+            m = np.mean(cn, axis=0)
+            d, on = -m / np.dot(m, m), []
         direction[a] = d
         if len(on) == 1:
             target[a] = (2, on[0][0])
@@ -297,7 +301,7 @@ def build_layer(X, tris, face, ent, groups, layers, thickness, ratio, project):
             target[a] = (1, curve) if curve is not None else (2, on[0][0])
         else:
             target[a] = (-1, -1)
-    if bad:
+    if len(bad) > max(2, 0.002 * len(c_nodes)):
         raise RuntimeError("%d nodes of the articular faces have no direction into the body "
                            "(a sharp edge next to them?), e.g. at %s" % (len(bad), bad[0]))
     level = {(a, 0): a for a in c_nodes}
@@ -331,6 +335,7 @@ def build_layer(X, tris, face, ent, groups, layers, thickness, ratio, project):
                            "--layer-thickness" % (int(folded.sum()), nodes[prisms[folded][0]].mean(axis=0)))
     body = LayeredBody()
     body.thinned = int(np.sum(depth < thickness))
+    body.straight_in = len(bad)
     body.nodes = nodes
     body.node_ent = np.concatenate([ent, np.repeat(np.array([target[a] for a in c_nodes]), layers, axis=0)])
     body.prisms = prisms
@@ -652,6 +657,8 @@ def mesh_body(vol, groups, size_field, size, layers, thickness, ratio, cad, note
     out = split_into_hexes(body, tets, groups, curve_edges, project)
     if body.thinned:
         notes.append("%d layer columns thinned (folds)" % body.thinned)
+    if body.straight_in:
+        notes.append("%d layer columns straight in at corners of several faces" % body.straight_in)
     if body.n_straight:
         notes.append("%d new boundary nodes left on straight edges (inverted otherwise)" % body.n_straight)
     return out

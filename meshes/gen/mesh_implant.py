@@ -23,10 +23,27 @@ Each body is meshed on its own; the two never share nodes.  --method:
                    (Mesh.SubdivisionAlgorithm = 2): the method before issue
                    18; its nodal contact pressures scatter.
 
+STL surfaces (both inputs STL; --surface remesh, the default; doc/geometry.md
+"STL surfaces as they come"): each surface, in mm and our frame, is checked,
+repaired and remeshed with edges of --surface-size by tkr-surface (CGAL;
+apps/surface.cc: defects counted and located, soup repair, holes filled,
+orientation, self-intersections removed locally or by an alpha wrap); its
+triangles are tagged from the pair's geometry (surface_tags.py: femur_contact
+= what faces and comes within --contact-distance of the insert as the femur
+flexes -5..60 deg about its estimated axis, tibia_contact = the insert's
+upward triangles near it, tibia_inferior/femur_fixation by the normal rules
+below), or from --femur-contact-stl/--insert-contact-stl patches; the
+surface is remeshed again (--contact-size on the contact triangles, --size/2
+elsewhere), split into smooth patches at --patch-angle, each patch given the
+group most of it has (contact if a quarter of its area is), and the
+articular nodes put on a moving-least-squares surface through the input's
+vertices (--smooth-radius).  --surface as-is: the STL goes straight to gmsh
+as below.
+
 The hexahedra are about half the requested tetrahedron/triangle sizes.
-Faces are assigned to the physical groups of DESIGN.md section 3 by the
-rules below (printed in a table; override with --*-faces using the face ids
-of that table):
+CAD faces (and STL faces with --surface as-is) are assigned to the physical
+groups of DESIGN.md section 3 by the rules below (printed in a table;
+override with --*-faces using the face ids of that table):
 
   insert (tibia)   tibia_inferior: faces with mean outward normal n_z < -0.9
                                    and centroid within 5 % of the height of the
@@ -787,6 +804,13 @@ def main(argv=None):
         ap.add_argument("--" + g.replace("_", "-") + "-faces", dest=g + "_faces",
                         help="comma-separated face ids (see the table) for %s, replacing the rule" % g)
     args = ap.parse_args(argv)
+    stl_remesh = args.surface == "remesh" and all(p.lower().endswith(".stl") for p in (args.femur, args.insert))
+    faces = [g for g in ("femur_contact", "femur_fixation", "tibia_contact", "tibia_inferior")
+             if getattr(args, g + "_faces")]
+    if stl_remesh and faces:
+        raise SystemExit("error: --%s-faces names faces of the CAD table; with STL input give the contact "
+                         "patch as --femur-contact-stl/--insert-contact-stl, or mesh the STL as it is with "
+                         "--surface as-is" % faces[0].replace("_", "-"))
     for option, path in (("--femur", args.femur), ("--insert", args.insert)):
         if not os.path.isfile(path):
             raise SystemExit("error: %s %s: no such file" % (option, path))
@@ -802,7 +826,7 @@ def main(argv=None):
         with tempfile.TemporaryDirectory() as tmpdir:
             check_frame(args)
             surface_log = []
-            if args.surface == "remesh" and all(p.lower().endswith(".stl") for p in inputs):
+            if stl_remesh:
                 prepare_surfaces(args, tmpdir, surface_log)
             if args.method == "split":
                 fem = mesh_body_robust("femur", args.femur, args, tmpdir)

@@ -8,7 +8,7 @@ proximal; tkr-surface's output), without any CAD faces.
                   the turned pose) and come within
                   DISTANCE mm of it somewhere over the flexion range: the
                   femur turned about its flexion axis (estimated from the
-                  distal arcs of the condyles, flexion_axis.py) by -5 to 65
+                  distal arcs of the condyles, flexion_axis.py) by -5 to 60
                   degrees in 5-degree steps (ISO 14243-1 reaches 58) and
                   lowered along z until it touches the insert;
   tibia_contact   the insert's triangles facing up (n_z > 0.3) that come
@@ -34,7 +34,7 @@ import flexion_axis
 UNTAGGED, CONTACT, OTHER = 0, 1, 2
 NAMES = {"femur": {CONTACT: "femur_contact", OTHER: "femur_fixation"},
          "tibia": {CONTACT: "tibia_contact", OTHER: "tibia_inferior"}}
-FLEXION = np.arange(-5.0, 65.1, 5.0)
+FLEXION = np.arange(-5.0, 60.1, 5.0)
 
 
 def normals(tris):
@@ -200,10 +200,11 @@ class SmoothSurface:
     1.5 mm tessellation doubles the peak contact pressure under 2000 N):
     the quadric restores it, to about radius^4 / (8 R^3) on a sphere of
     radius R (0.001 mm for 3 mm on R = 20 mm), and averages a scan's
-    noise.  A point whose move would exceed max_move (mm; at rims, where
-    the fit extrapolates) stays."""
+    noise.  A point whose neighbours lie to one side (their mean more than
+    radius/2 away in the tangent plane: a rim, where the fit would
+    extrapolate) or whose move would exceed max_move (mm) stays."""
 
-    def __init__(self, tris, radius, max_move=0.05):
+    def __init__(self, tris, radius, max_move=0.15):
         self.max_move = max_move
         pts, inv = np.unique(np.round(tris.reshape(-1, 3), 9), axis=0, return_inverse=True)
         n = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
@@ -229,6 +230,8 @@ class SmoothSurface:
             e2 = np.cross(n0, e1)
             D = self.P[idx] - x
             u, v, w = D @ e1, D @ e2, D @ n0
+            if np.hypot(u.mean(), v.mean()) > 0.5 * self.radius:
+                continue     # all neighbours to one side (a rim): no extrapolation
             wt = np.sqrt(np.exp(-(u * u + v * v) / self.radius ** 2))
             A = np.column_stack([np.ones_like(u), u, v, u * u, u * v, v * v]) * wt[:, None]
             coef, *_ = np.linalg.lstsq(A, w * wt, rcond=None)

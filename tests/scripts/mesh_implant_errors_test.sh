@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 # scripts/mesh-implant never ends in a Python traceback (issue 19 item 4):
 # a missing file, an unknown file type, an unreadable STL, an unreadable
-# STEP (a gmsh exception) and a bad --rotation each end with exit code 1
+# STEP (a gmsh exception), a bad --rotation and STL surfaces on which the
+# tagging finds no contact triangle each end with exit code 1
 # and one "error:" line that names the problem. Needs Debian's
 # python3-gmsh and python3-numpy.
 set -uo pipefail
@@ -27,4 +28,6 @@ check "unreadable STEP (a gmsh exception)" fails "error: gmsh: Could not read fi
   --femur "$cad/tkr-a-femur.step" --insert "$work/bad.step"
 check "bad --rotation" fails "needs nine numbers" --femur "$cad/tkr-a-femur.stl" \
   --insert "$cad/tkr-a-insert.stl" --rotation 1,0,0
+check "tagging that finds nothing" fails "error: tagging the surfaces: no triangle of the femur was found for femur_contact" \
+  --femur "$cad/tkr-a-femur.stl" --insert "$cad/tkr-a-insert.stl" --contact-distance 0
 exit $failed

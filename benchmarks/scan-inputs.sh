@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Issue 19 item 5: scan-like STL inputs of TKR A, B and C (meshes/gen/scanlike.py:
+# subdivided, 0.01 mm noise, 3 folded vertices, a duplicated and a missing
+# triangle, reversed orientation), one set in metres and one in another frame,
+# through scripts/mesh-implant, a static contact under 2000 N and (with
+# --cycle) one ISO 14243-1 gait cycle on 1 rank. Prints one line per input.
+#   benchmarks/scan-inputs.sh [--cycle] [WORKDIR]   (Release build in build/release)
+set -uo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cycle=0
+[ "${1:-}" = "--cycle" ] && { cycle=1; shift; }
+work=${1:-$(mktemp -d)}
+mkdir -p "$work" && cd "$work" || exit 1
+wear=$root/build/release/tkr-wear
+rot=0,1,0,0,0,1,1,0,0
+# name design options-for-scanlike options-for-mesh-implant
+cases=("a-mm a --seed 3|" "b-mm b --seed 3|" "c-mm c --seed 3|"
+       "a-m a --seed 4 --units m|--units m" "b-frame b --seed 5 --rotation $rot|--rotation $rot")
+for c in "${cases[@]}"; do
+  make=${c%%|*} mesh=${c#*|}
+  read -r name design opts <<< "$make"
+  for part in femur insert; do
+    /usr/bin/python3 "$root/meshes/gen/scanlike.py" "$root/meshes/tkr/cad/tkr-$design-$part.stl" \
+      "$name-$part.stl" --duplicates 1 --holes 1 --flip $opts > /dev/null
+  done
+  # shellcheck disable=SC2086
+  if ! "$root/scripts/mesh-implant" --femur "$name-femur.stl" --insert "$name-insert.stl" $mesh \
+      -o "$name.msh" > "$name-mesh.log" 2>&1; then
+    echo "$name: mesh-implant failed: $(tail -1 "$name-mesh.log")"
+    continue
+  fi
+  cat > "$name-static.prm" <<PRM
+set Problem = contact
+subsection Mesh
+  set File = $name.msh
+end
+subsection Static contact
+  set Femur displacement      = 0, 0, 0
+  set Tibia inferior          = loaded
+  set Axial force             = 2000
+  set Tibia tangential spring = 100
+end
+subsection Contact solver
+  set Initial contact distance = 0.05
+end
+subsection Output
+  set Directory    = $name-static
+  set VTU interval = 0
+end
+PRM
+  "$wear" "$name-static.prm" > "$name-static.log" 2>&1
+  line="$name: $(grep -o 'wrote [^ ]* ([0-9]* Q1' "$name-mesh.log" | grep -o '[0-9]* Q1') DoFs;"
+  line+=" layer $(grep 'contact layer' "$name-mesh.log" | grep -o '[0-9.]*$' | paste -sd/);"
+  line+=" 2000 N: area $(sed -n 's/ *contact area: *//p' "$name-static.log"),"
+  line+=" peak $(sed -n 's/ *max pressure: *//p' "$name-static.log")"
+  if [ $cycle = 1 ]; then
+    printf 'include %s\ninclude %s\nsubsection Output\n  set Directory = %s\n  set VTU interval = 0\nend\n' \
+      "$root/prm/one-cycle.prm" "$name.prm" "$name-cycle" > "$name-cycle.prm"
+    "$wear" "$name-cycle.prm" > "$name-cycle.log" 2>&1; code=$?
+    line+="; one cycle: exit $code, $(grep -o "\"unconverged_steps\": \[[^]]*\]" "$name-cycle/summary.json"), $(grep -o "\"first_cycle_mass_loss_mg_per_million_cycles\": [0-9.]*" "$name-cycle/summary.json")"
+  fi
+  echo "$line"
+done
