@@ -323,16 +323,10 @@ def load_tagged(tris, labels, patch, role):
     meet, and the volume they bound.  Returns (volume, {surface: group name
     or None}, {patch: surface})."""
     import surface_tags
-    pts, inv = np.unique(np.round(tris.reshape(-1, 3), 9), axis=0, return_inverse=True)
-    T = inv.reshape(-1, 3)
-    E = np.sort(np.concatenate([T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]]), axis=1)
-    side = np.tile(np.arange(len(T)), 3)
-    order = np.lexsort((E[:, 1], E[:, 0]))
-    E, side = E[order], side[order]
-    first = np.flatnonzero((E[1:] == E[:-1]).all(axis=1))
-    pa, pb = patch[side[first]], patch[side[first + 1]]
+    pts, T, E, ta, tb = surface_tags.shared_edges(tris)
+    pa, pb = patch[ta], patch[tb]
     border = pa != pb
-    edges, pairs = E[first][border], np.sort(np.stack([pa, pb], axis=1)[border], axis=1)
+    edges, pairs = E[border], np.sort(np.stack([pa, pb], axis=1)[border], axis=1)
     around = [set() for _ in range(len(pts))]
     for tri, k in zip(T, patch):
         for v in tri:

@@ -124,6 +124,20 @@ def tag_insert(tris, contact):
     return labels
 
 
+def shared_edges(tris):
+    """Points (identical ones merged) and triangles (indices) of a closed
+    triangulated surface, its edges (node pairs) and the two triangles of
+    each edge."""
+    pts, inv = np.unique(np.round(tris.reshape(-1, 3), 9), axis=0, return_inverse=True)
+    T = inv.reshape(-1, 3)
+    E = np.sort(np.concatenate([T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]]), axis=1)
+    owner = np.tile(np.arange(len(T)), 3)
+    order = np.lexsort((E[:, 1], E[:, 0]))
+    E, owner = E[order], owner[order]
+    same = np.flatnonzero((E[1:] == E[:-1]).all(axis=1))
+    return pts, T, E[same], owner[same], owner[same + 1]
+
+
 def patches(tris, angle, min_area):
     """Smooth patches: connected components of the triangles across edges
     whose dihedral angle is below `angle` (deg); a patch smaller than
@@ -132,14 +146,7 @@ def patches(tris, angle, min_area):
     each triangle (0, 1, ...)."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
-    pts, inv = np.unique(np.round(tris.reshape(-1, 3), 9), axis=0, return_inverse=True)
-    T = inv.reshape(-1, 3)
-    E = np.sort(np.concatenate([T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]]), axis=1)
-    owner = np.tile(np.arange(len(T)), 3)
-    order = np.lexsort((E[:, 1], E[:, 0]))
-    E, owner = E[order], owner[order]
-    same = np.flatnonzero((E[1:] == E[:-1]).all(axis=1))
-    a, b = owner[same], owner[same + 1]
+    _, T, _, a, b = shared_edges(tris)
     _, n = normals(tris)
     smooth = np.einsum("ij,ij->i", n[a], n[b]) > np.cos(np.radians(angle))
     graph = coo_matrix((np.ones(smooth.sum()), (a[smooth], b[smooth])), shape=(len(T), len(T)))
