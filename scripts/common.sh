@@ -40,6 +40,11 @@ tkr_build() {
   echo "== Configuring ($type) in $dir"
   cmake -S "$TKR_ROOT" -B "$dir" -DCMAKE_BUILD_TYPE="$type" "$@" >"$dir.cmake.log" 2>&1 ||
     { cat "$dir.cmake.log"; return 1; }
-  echo "== Building tkr-wear ($type)"
-  cmake --build "$dir" --target tkr-wear -- -j"$TKR_JOBS"
+  # Release also builds tkr-surface, the STL repair of scripts/mesh-implant
+  # (CGAL, about 90 s to compile); the Debug build runs no script test.
+  local targets="tkr-wear"
+  [ "$type" = Release ] && targets="tkr-wear tkr-surface"
+  echo "== Building $targets ($type)"
+  # shellcheck disable=SC2086
+  cmake --build "$dir" --target $targets -- -j"$TKR_JOBS"
 }
