@@ -224,7 +224,7 @@ def surface_tool():
                      "TKR_SURFACE to its path, or give --surface as-is to mesh the STL triangles as they are")
 
 
-def run_surface_tool(args, role, cmd, shown, log):
+def run_surface_tool(role, cmd, shown, log):
     """tkr-surface with its lines printed and logged as "surface ROLE: ...";
     a failure ends mesh-implant with one message."""
     import subprocess
@@ -247,9 +247,11 @@ def prepare_surfaces(args, tmpdir, log):
     frame, checked, repaired and remeshed with edges of --surface-size by
     tkr-surface; its triangles tagged from the pair's geometry
     (surface_tags.py) or from the --*-contact-stl patches; then remeshed
-    again with --contact-size on the contact triangles and --size/2
-    elsewhere, and the tags carried over (nearest triangle).  Sets
-    args.tagged = {role: (triangles, labels, fine triangles, fine labels)}."""
+    again with --contact-size on the contact triangles and max(--contact-size,
+    --size/2) elsewhere, the tags carried over (nearest triangle) and made
+    uniform per smooth patch, the articular corners put on the smooth
+    surface.  Sets args.tagged = {role: (triangles, labels, patch of each
+    triangle, repaired triangles, their patches, SmoothSurface)}."""
     import surface_tags
     from scipy.spatial import cKDTree
     paths = {"femur": args.femur, "tibia": args.insert}
@@ -261,7 +263,7 @@ def prepare_surfaces(args, tmpdir, log):
         edge = np.median(np.linalg.norm(given - np.roll(given, 1, axis=1), axis=2))
         smooth[role] = surface_tags.SmoothSurface(given, max(args.smooth_radius, 2.5 * edge))
         clean[role] = os.path.join(tmpdir, "%s-clean.stl" % role)
-        run_surface_tool(args, role, [raw, clean[role], "--size", str(args.surface_size), "--feature-angle",
+        run_surface_tool(role, [raw, clean[role], "--size", str(args.surface_size), "--feature-angle",
                                       str(args.feature_angle), "--wrap-alpha", str(0.5 * args.surface_size)],
                          {raw: p}, log)
     tris = {role: read_stl(clean[role]) for role in paths}
@@ -280,7 +282,7 @@ def prepare_surfaces(args, tmpdir, log):
         contact = os.path.join(tmpdir, "%s-contact.stl" % role)
         write_stl_binary(contact, tris[role][labels[role] == surface_tags.CONTACT])
         final[role] = os.path.join(tmpdir, "%s-final.stl" % role)
-        run_surface_tool(args, role, [clean[role], final[role], "--size", str(max(args.contact_size, 0.5 * args.size)),
+        run_surface_tool(role, [clean[role], final[role], "--size", str(max(args.contact_size, 0.5 * args.size)),
                                       "--contact-size", str(args.contact_size), "--near", contact,
                                       "--near-distance", str(0.5 * args.surface_size),
                                       "--feature-angle", str(args.feature_angle),
