@@ -38,6 +38,7 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/IO/polygon_soup_io.h>
+#include <CGAL/Polygon_mesh_processing/bbox.h>
 #include <CGAL/Polygon_mesh_processing/border.h>
 #include <CGAL/Polygon_mesh_processing/detect_features.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
@@ -455,6 +456,28 @@ namespace
     remesh_valid(mesh, true, o, out);
   }
 
+  // Throw unless the (repaired, holes filled) surface can bound a solid: it
+  // has triangles and, where closed, encloses a volume (not a flat sheet
+  // whose hole was filled).
+  void
+  check_solid(const Mesh &mesh)
+  {
+    if (mesh.number_of_faces() == 0)
+      throw std::runtime_error(
+        "no triangle is left once the degenerate ones are removed: the file "
+        "holds no surface");
+    if (!CGAL::is_closed(mesh))
+      return;
+    const auto   box  = CGAL::Polygon_mesh_processing::bbox(mesh);
+    const double size = std::max({box.xmax() - box.xmin(),
+                                  box.ymax() - box.ymin(),
+                                  box.zmax() - box.zmin()});
+    if (std::abs(PMP::volume(mesh)) < 1e-6 * size * size * size)
+      throw std::runtime_error(
+        "the surface encloses no volume (an open sheet, not the closed "
+        "surface of a solid body): export the whole closed body");
+  }
+
   // The input as a surface mesh with the defects of the soup repaired (see
   // the head of this file); the defects found are reported.
   Mesh
@@ -477,6 +500,15 @@ namespace
       repairs.push_back(std::to_string(n) + " holes filled");
     PMP::remove_degenerate_faces(mesh);
     mesh.collect_garbage();
+    try
+      {
+        check_solid(mesh);
+      }
+    catch (const std::runtime_error &)
+      {
+        report(defects, out);
+        throw;
+      }
     Defect inward{"inward orientation (the whole surface)"};
     if (CGAL::is_closed(mesh) && !PMP::is_outward_oriented(mesh))
       {
@@ -531,7 +563,14 @@ main(int argc, char **argv)
     }
   catch (const std::exception &e)
     {
-      std::cout << "error: " << e.what() << std::endl;
+      // one line (CGAL's messages have several)
+      std::string what = e.what();
+      while (!what.empty() && what.back() == '\n')
+        what.pop_back();
+      for (std::size_t i = what.find('\n'); i != std::string::npos;
+           i             = what.find('\n', i))
+        what.replace(i, 1, "; ");
+      std::cout << "error: " << what << std::endl;
       return 1;
     }
 }

@@ -5,7 +5,8 @@
 # vertices, 2 duplicated triangles, 1 triangle left out, orientation
 # reversed) is reported with each defect counted and located, repaired and
 # remeshed into a closed, outward surface without self-intersections whose
-# volume is that of the clean export within 1 %; an unreadable file ends
+# volume is that of the clean export within 1 %; an unreadable file, an
+# open sheet (it encloses no volume) and a file of degenerate triangles end
 # with one error line and exit 1. Argument: the tkr-surface executable.
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/checks.sh"
@@ -29,11 +30,18 @@ volume() { sed -n 's/.*volume \([0-9.e+]*\) mm3.*/\1/p' "$1"; }
 close() { $py -c "import sys; a, b = float(sys.argv[1]), float(sys.argv[2]); print(a, b, abs(a / b - 1)); sys.exit(abs(a / b - 1) > 0.01)" "$@"; }
 check "volume within 1 % of the clean export's" close "$(volume "$work/scan.log")" "$(volume "$work/clean.log")"
 echo "solid nothing" > "$work/bad.stl"
-unreadable() {
-  "$tool" "$work/bad.stl" "$work/x.stl" > "$work/bad.log" 2>&1
+refused() { # refused FILE LINES FRAGMENT: exit 1, LINES lines, the last one "error: ...FRAGMENT"
+  "$tool" "$1" "$work/x.stl" > "$work/refused.log" 2>&1
   local code=$?
-  cat "$work/bad.log"
-  [ "$code" -eq 1 ] && [ "$(wc -l < "$work/bad.log")" -eq 1 ] && grep -q "^error: .*not a readable STL file" "$work/bad.log"
+  cat "$work/refused.log"
+  [ "$code" -eq 1 ] && [ "$(wc -l < "$work/refused.log")" -eq "$2" ] &&
+    tail -1 "$work/refused.log" | grep -q "^error: .*$3"
 }
-check "unreadable file: one error line, exit 1" unreadable
+check "unreadable file: one error line, exit 1" refused "$work/bad.stl" 1 "not a readable STL file"
+tri() { printf 'facet normal 0 0 0\nouter loop\nvertex %s %s %s\nvertex %s %s %s\nvertex %s %s %s\nendloop\nendfacet\n' "$@"; }
+{ echo "solid sheet"; tri 0 0 0 60 0 0 60 40 0; tri 0 0 0 60 40 0 0 40 0; echo "endsolid sheet"; } > "$work/sheet.stl"
+{ echo "solid line"; tri 0 0 0 1 0 0 2 0 0; tri 0 0 0 2 0 0 3 0 0; echo "endsolid line"; } > "$work/line.stl"
+check "an open sheet: refused in one error line, exit 1" refused "$work/sheet.stl" 3 "encloses no volume"
+check "degenerate triangles only: refused in one error line, exit 1" refused "$work/line.stl" 3 \
+  "no triangle is left once the degenerate ones are removed"
 exit $failed
