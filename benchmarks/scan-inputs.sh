@@ -30,25 +30,8 @@ for c in "${cases[@]}"; do
     echo "$name: mesh-implant failed: $(tail -1 "$name-mesh.log")"
     continue
   fi
-  cat > "$name-static.prm" <<PRM
-set Problem = contact
-subsection Mesh
-  set File = $name.msh
-end
-subsection Static contact
-  set Femur displacement      = 0, 0, 0
-  set Tibia inferior          = loaded
-  set Axial force             = 2000
-  set Tibia tangential spring = 100
-end
-subsection Contact solver
-  set Initial contact distance = 0.05
-end
-subsection Output
-  set Directory    = $name-static
-  set VTU interval = 0
-end
-PRM
+  printf 'include %s\nsubsection Mesh\n  set File = %s\nend\nsubsection Output\n  set Directory = %s\nend\n' \
+    "$root/prm/static-2000n.prm" "$name.msh" "$name-static" > "$name-static.prm"
   "$wear" "$name-static.prm" > "$name-static.log" 2>&1
   line="$name: $(grep -o 'wrote [^ ]* ([0-9]* Q1' "$name-mesh.log" | grep -o '[0-9]* Q1') DoFs;"
   line+=" layer $(grep 'contact layer' "$name-mesh.log" | grep -o '[0-9.]*$' | paste -sd/);"

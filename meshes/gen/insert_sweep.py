@@ -209,9 +209,11 @@ class Top:
                 m = np.where(f == s)[0]
                 z[m] = self._newton(s, XY[m], z[m])
         if self.smooth is not None and len(z):
-            for _ in range(2):   # along the normal, then back above XY
-                P = self.smooth(np.column_stack([XY, z]))
-                z = z + (P[:, 2] - z)
+            # the point moves along the surface normal onto the smooth
+            # surface; its height is taken back above XY (twice: a fixed
+            # point of the slope's small shift)
+            for _ in range(2):
+                z = self.smooth(np.column_stack([XY, z]))[:, 2]
         return z, f
 
     @staticmethod
