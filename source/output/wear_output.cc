@@ -244,17 +244,25 @@ namespace TKR::Output
   write_wear_map(const std::string            &directory,
                  const Mortar::ContactSurface &surface,
                  const Geometry::WornGeometry &geometry,
+                 const std::vector<double>    &cross_shear,
                  const MPI_Comm                mpi_communicator)
   {
     if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
       return;
-    const auto   &x     = geometry.vertex_positions();
-    const auto   &depth = geometry.wear_depth();
+    const auto   &x       = geometry.vertex_positions();
+    const auto   &depth   = geometry.wear_depth();
+    const bool    with_cs = cross_shear.size() == surface.nodes().size();
     std::ofstream nodes(directory + "/wear_map.csv");
-    nodes << "x,y,z,depth_mm\n" << std::setprecision(10);
-    for (const auto &node : surface.nodes())
-      nodes << x[node.vertex][0] << ',' << x[node.vertex][1] << ','
-            << x[node.vertex][2] << ',' << depth[node.vertex] << '\n';
+    nodes << "x,y,z,depth_mm" << (with_cs ? ",cross_shear" : "") << '\n'
+          << std::setprecision(10);
+    for (unsigned int j = 0; j < surface.nodes().size(); ++j)
+      {
+        const unsigned int v = surface.nodes()[j].vertex;
+        nodes << x[v][0] << ',' << x[v][1] << ',' << x[v][2] << ',' << depth[v];
+        if (with_cs)
+          nodes << ',' << cross_shear[j];
+        nodes << '\n';
+      }
     // deal.II numbers a face's vertices lexicographically: 0, 1, 3, 2 go
     // around it.
     std::ofstream faces(directory + "/wear_map_faces.csv");

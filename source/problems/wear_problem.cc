@@ -61,8 +61,10 @@ namespace TKR::Problems
   void
   WearProblem::compute_wear()
   {
-    const auto &reports = cycle.get_reports();
-    cycle_wear    = law->cycle_wear(Wear::CycleSliding(cycle.get_records()));
+    const auto              &reports = cycle.get_reports();
+    const Wear::CycleSliding sliding(cycle.get_records());
+    cycle_wear    = law->cycle_wear(sliding);
+    cross_shear   = Wear::cycle_cross_shear(sliding);
     peak_pressure = max_contact_area = 0;
     unsigned int n_newton = 0, n_solves = 0, n_converged = 0;
     for (const auto &r : reports)
@@ -252,6 +254,21 @@ namespace TKR::Problems
     return message.str();
   }
 
+  double
+  WearProblem::mean_cross_shear() const
+  {
+    double weighted = 0, weight = 0;
+    if (block_areas.size() != cross_shear.size())
+      return 0.;
+    for (unsigned int j = 0; j < cross_shear.size(); ++j)
+      {
+        const double w = cross_shear[j].work * block_areas[j];
+        weighted += w * cross_shear[j].ratio;
+        weight += w;
+      }
+    return weight > 0 ? weighted / weight : 0.;
+  }
+
   void
   WearProblem::finish_block(const double block_wall_time)
   {
@@ -338,7 +355,9 @@ namespace TKR::Problems
       {"peak_load_pressure_MPa",
        per_vertex([&](const unsigned int j) { return peak.pressure[j]; })},
       {"cycle_slip_mm",
-       per_vertex([&](const unsigned int j) { return cycle_wear.slip[j]; })}};
+       per_vertex([&](const unsigned int j) { return cycle_wear.slip[j]; })},
+      {"cross_shear",
+       per_vertex([&](const unsigned int j) { return cross_shear[j].ratio; })}};
     for (const auto &[name, values] : cycle_wear.fields)
       fields.emplace_back(name,
                           per_vertex(
@@ -384,9 +403,13 @@ namespace TKR::Problems
                             model.world());
     if (output.vtu_interval > 0)
       cycle.output_steps(cycle_wear);
+    std::vector<double> ratio;
+    for (const auto &cs : cross_shear)
+      ratio.push_back(cs.ratio);
     Output::write_wear_map(output.directory,
                            model.geometry().worn_surface(),
                            model.geometry(),
+                           ratio,
                            model.world());
 
     const auto &last    = state.history.back();
@@ -398,6 +421,8 @@ namespace TKR::Problems
     summary.set("max_wear_depth_mm", last.max_depth);
     summary.set("wear_area_percent", last.wear_area_percent);
     summary.set("wear_area_threshold_mm", parameters.wear.wear_area_threshold);
+    if (!cross_shear.empty()) // a resumed run computes a cycle
+      summary.set("mean_cross_shear", mean_cross_shear());
     summary.set("max_pressure_MPa", state.max_pressure);
     summary.set("steps", static_cast<unsigned long long>(state.steps));
     summary.set("contact_solves",

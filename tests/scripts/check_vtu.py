@@ -14,7 +14,9 @@ VTU interval = 1) against its steps.csv and summary.json:
   - worn.pvd (one block): the largest wear_depth_mm equals
     max_wear_depth_mm, and the largest wear rate times the block's cycles
     equals it too;
-  - mass_loss.png and wear_map.png are PNG files.
+  - the worn tibia's cross_shear lies in 0 .. 0.5 and summary.json's
+    mean_cross_shear between 0 and its largest value;
+  - mass_loss.png, wear_map.png and cross_shear_map.png are PNG files.
 Prints one line per check with O(1) numbers; exits 1 on the first failure.
 Reads deal.II's zlib-compressed, base64-encoded VTU files with numpy only.
 """
@@ -164,11 +166,21 @@ def main():
                  "differs from max_wear_depth_mm %g" % (rate, cycles, expected))
     print("worn tibia: largest wear_depth_mm / summary.json = %.6f"
           % (depth / expected))
-    for name in ("mass_loss.png", "wear_map.png"):
+    cs = fields["cross_shear"][:, 0]
+    if cs.min() < 0 or cs.max() > 0.5 + 1e-12:
+        fail("cross_shear outside 0 .. 0.5: %g .. %g" % (cs.min(), cs.max()))
+    mean = float(summary["mean_cross_shear"])
+    if not 0 <= mean <= cs.max() + 1e-12:
+        fail("mean_cross_shear %g of summary.json outside 0 .. %g (the "
+             "VTU's largest)" % (mean, cs.max()))
+    print("worn tibia: cross_shear within 0 .. 0.5, summary.json's mean "
+          "within 0 .. the largest")
+    for name in ("mass_loss.png", "wear_map.png", "cross_shear_map.png"):
         with open(os.path.join(directory, name), "rb") as f:
             if f.read(8) != b"\x89PNG\r\n\x1a\n":
                 fail(name + " is not a PNG file")
-    print("plots: mass_loss.png and wear_map.png are PNG files")
+    print("plots: mass_loss.png, wear_map.png and cross_shear_map.png are "
+          "PNG files")
     print("check_vtu: all checks passed")
 
 

@@ -76,9 +76,11 @@ def write(directory, nodes, depths, faces, history, summary,
           history_columns):
     os.makedirs(directory, exist_ok=True)
     with open(os.path.join(directory, "wear_map.csv"), "w") as f:
-        f.write("x,y,z,depth_mm\n")
+        # a made-up cross-shear, 0 .. 0.5 across the surface
+        f.write("x,y,z,depth_mm,cross_shear\n")
         for (x, y, z), d in zip(nodes, depths):
-            f.write(f"{x:.6g},{y:.6g},{z:.6g},{d:.6g}\n")
+            cs = 0.25 + 0.2 * math.sin(0.1 * x) * math.cos(0.1 * y)
+            f.write(f"{x:.6g},{y:.6g},{z:.6g},{d:.6g},{cs:.6g}\n")
     with open(os.path.join(directory, "wear_map_faces.csv"), "w") as f:
         f.write("n0,n1,n2,n3\n")
         for face in faces:

@@ -66,6 +66,7 @@ check "plot-wear prints nothing on stderr" test ! -s "$work/stderr"
 cat "$work/stderr" >&2
 check "mass_loss.png is a PNG" is_png "$work/run/mass_loss.png"
 check "wear_map.png is a PNG" is_png "$work/run/wear_map.png"
+check "cross_shear_map.png is a PNG" is_png "$work/run/cross_shear_map.png"
 
 check "--help exits 0" "$plot" --help >/dev/null
 

@@ -108,14 +108,17 @@ namespace TKR::Output
                    const double                  cycles);
 
   /**
-   * `wear_map.csv` (x,y,z,depth_mm per tibia_contact node, worn positions)
-   * and `wear_map_faces.csv` (its quadrilaterals, node numbers in cyclic
-   * order) for scripts/plot-wear, on rank 0.
+   * `wear_map.csv` (x,y,z,depth_mm,cross_shear per tibia_contact node, worn
+   * positions; the cross-shear @p cross_shear of the last cycle, a column
+   * only if given for every node) and `wear_map_faces.csv` (its
+   * quadrilaterals, node numbers in cyclic order) for scripts/plot-wear, on
+   * rank 0.
    */
   void
   write_wear_map(const std::string            &directory,
                  const Mortar::ContactSurface &surface,
                  const Geometry::WornGeometry &geometry,
+                 const std::vector<double>    &cross_shear,
                  const MPI_Comm                mpi_communicator);
 
   /**

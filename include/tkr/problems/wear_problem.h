@@ -9,6 +9,7 @@
 #include <tkr/output/vtu_output.h>
 #include <tkr/problems/gait_cycle.h>
 #include <tkr/problems/two_body_model.h>
+#include <tkr/wear/cross_shear.h>
 #include <tkr/wear/wear_law.h>
 #include <tkr/wear/wear_state.h>
 
@@ -102,6 +103,14 @@ namespace TKR::Problems
                        const Geometry::Distortion &distortion,
                        const std::vector<double>  &increment) const;
 
+    /**
+     * The mean cross-shear of the last block's cycle over the tibia_contact
+     * nodes, weighted by each node's frictional work times its area (where
+     * the insert wears by Archard's law), 0 if nothing slid.
+     */
+    double
+    mean_cross_shear() const;
+
     /** History row, progress line, worn tibia VTU, checkpoint. */
     void
     finish_block(const double block_wall_time);
@@ -139,6 +148,9 @@ namespace TKR::Problems
     Wear::WearRunState             state;
     /** The wear of the last block's cycle. */
     Wear::CycleWear cycle_wear;
+    /** The cross-shear of every tibia_contact node in the last block's
+     *  cycle (whatever the law). */
+    std::vector<Wear::CrossShear> cross_shear;
     /**
      * The nodal areas of the worn surface on which the last block's cycle
      * was solved (before the block's wear moved it): the block's volume
