@@ -24,7 +24,7 @@ namespace TKR::Output
 
   namespace
   {
-    constexpr unsigned int format_version = 2;
+    constexpr unsigned int format_version = 3;
     /** Columns of the history dataset (Wear::BlockResult). */
     constexpr unsigned int n_history_columns = 9;
 
@@ -176,6 +176,8 @@ namespace TKR::Output
       file.set_attribute("cycles_per_block", state.cycles_per_block);
       file.set_attribute("stiffness_block", state.stiffness_block);
       file.set_attribute("volume", state.volume);
+      file.set_attribute("volume_medial", state.volume_medial);
+      file.set_attribute("volume_lateral", state.volume_lateral);
       file.set_attribute("contact_solves", double(state.contact_solves));
       file.set_attribute("newton_iterations", double(state.newton_iterations));
       file.set_attribute("steps", double(state.steps));
@@ -197,7 +199,9 @@ namespace TKR::Output
       state.cycles_per_block = file.get_attribute<double>("cycles_per_block");
       state.stiffness_block =
         file.get_attribute<unsigned int>("stiffness_block");
-      state.volume = file.get_attribute<double>("volume");
+      state.volume         = file.get_attribute<double>("volume");
+      state.volume_medial  = file.get_attribute<double>("volume_medial");
+      state.volume_lateral = file.get_attribute<double>("volume_lateral");
       state.contact_solves =
         std::llround(file.get_attribute<double>("contact_solves"));
       state.newton_iterations =
@@ -270,6 +274,13 @@ namespace TKR::Output
                         r.max_contact_area,
                         r.wall_time});
       write_dataset(file, "history", history, {rows.size(), n_history_columns});
+      std::vector<double> sides;
+      for (const auto &r : rows)
+        for (const auto &s : {r.medial, r.lateral})
+          sides.insert(
+            sides.end(),
+            {s.volume, s.max_depth, s.wear_area_percent, s.mean_cross_shear});
+      write_dataset(file, "sides", sides, {rows.size(), 8});
     }
 
     std::vector<Wear::BlockResult>
@@ -290,6 +301,14 @@ namespace TKR::Output
                           h[6],
                           h[7],
                           h[8]});
+        }
+      const auto sides = read_dataset<double>(file, "sides");
+      for (unsigned int i = 0; i < rows.size() && 8 * i + 8 <= sides.size();
+           ++i)
+        {
+          const double *s = &sides[8 * i];
+          rows[i].medial  = {s[0], s[1], s[2], s[3]};
+          rows[i].lateral = {s[4], s[5], s[6], s[7]};
         }
       return rows;
     }

@@ -108,14 +108,19 @@ namespace TKR::Output
         AssertThrow(csv.good(),
                     ExcInputError("Cannot write <" + temporary + ">."));
         csv << "block,cycles,volume_mm3,mass_mg,max_depth_mm,"
-               "wear_area_percent,peak_pressure_MPa,max_contact_area_mm2"
-            << (testing ? "" : ",wall_time_s") << '\n'
-            << std::setprecision(10);
+               "wear_area_percent,peak_pressure_MPa,max_contact_area_mm2";
+        for (const std::string side : {"medial", "lateral"})
+          csv << ',' << side << "_volume_mm3," << side << "_max_depth_mm,"
+              << side << "_wear_area_percent," << side << "_mean_cross_shear";
+        csv << (testing ? "" : ",wall_time_s") << '\n' << std::setprecision(10);
         for (const auto &r : rows)
           {
             csv << r.block << ',' << r.cycles << ',' << r.volume << ','
                 << r.mass << ',' << r.max_depth << ',' << r.wear_area_percent
                 << ',' << r.peak_pressure << ',' << r.max_contact_area;
+            for (const auto &s : {r.medial, r.lateral})
+              csv << ',' << s.volume << ',' << s.max_depth << ','
+                  << s.wear_area_percent << ',' << s.mean_cross_shear;
             if (!testing)
               csv << ',' << r.wall_time;
             csv << '\n';

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace TKR::Problems
@@ -213,6 +214,10 @@ namespace TKR::Problems
             state.volume +=
               effective *
               Wear::measure_wear(cycle_wear.depth, measures.area, 0.).volume;
+            const auto medial = medial_nodes();
+            for (unsigned int j = 0; j < surface.size(); ++j)
+              (medial[j] ? state.volume_medial : state.volume_lateral) +=
+                effective * cycle_wear.depth[j] * measures.area[j];
             state.cycles += n;
             ++state.block;
             return n;
@@ -255,18 +260,60 @@ namespace TKR::Problems
   }
 
   double
-  WearProblem::mean_cross_shear() const
+  WearProblem::mean_cross_shear(const std::vector<bool> &select,
+                                const bool               value) const
   {
     double weighted = 0, weight = 0;
     if (block_areas.size() != cross_shear.size())
       return 0.;
     for (unsigned int j = 0; j < cross_shear.size(); ++j)
       {
+        if (!select.empty() && select[j] != value)
+          continue;
         const double w = cross_shear[j].work * block_areas[j];
         weighted += w * cross_shear[j].ratio;
         weight += w;
       }
     return weight > 0 ? weighted / weight : 0.;
+  }
+
+  std::vector<bool>
+  WearProblem::medial_nodes() const
+  {
+    const auto &surface = model.geometry().worn_surface().nodes();
+    const auto &x       = model.geometry().vertex_positions();
+    double      lo = std::numeric_limits<double>::max(), hi = -lo;
+    for (const auto &node : surface)
+      {
+        lo = std::min(lo, x[node.vertex][0]);
+        hi = std::max(hi, x[node.vertex][0]);
+      }
+    std::vector<bool> medial;
+    for (const auto &node : surface)
+      medial.push_back((x[node.vertex][0] - 0.5 * (lo + hi)) *
+                         model.parameters().gait.medial_direction >
+                       0);
+    return medial;
+  }
+
+  Wear::SideResult
+  WearProblem::side_result(const std::vector<double> &node_depth,
+                           const std::vector<bool>   &medial,
+                           const bool                 on_medial,
+                           const double               volume) const
+  {
+    std::vector<double> depth = node_depth;
+    for (unsigned int j = 0; j < depth.size(); ++j)
+      if (medial[j] != on_medial)
+        depth[j] = 0;
+    const auto measures =
+      Wear::measure_wear(depth,
+                         block_areas,
+                         model.parameters().wear.wear_area_threshold);
+    return {volume,
+            measures.max_depth,
+            measures.worn_percent(),
+            mean_cross_shear(medial, on_medial)};
   }
 
   void
@@ -284,15 +331,19 @@ namespace TKR::Problems
                          block_areas,
                          parameters.wear.wear_area_threshold);
     const double wall_time = state.wall_time + model.wall_time();
-    state.history.push_back({state.block,
-                             state.cycles,
-                             state.volume,
-                             parameters.materials.tibia.density * state.volume,
-                             measures.max_depth,
-                             measures.worn_percent(),
-                             peak_pressure,
-                             max_contact_area,
-                             wall_time});
+    const auto   medial    = medial_nodes();
+    state.history.push_back(
+      {state.block,
+       state.cycles,
+       state.volume,
+       parameters.materials.tibia.density * state.volume,
+       measures.max_depth,
+       measures.worn_percent(),
+       peak_pressure,
+       max_contact_area,
+       wall_time,
+       side_result(node_depth, medial, true, state.volume_medial),
+       side_result(node_depth, medial, false, state.volume_lateral)});
     Output::write_wear_history(output.directory,
                                state.history,
                                output.testing,
@@ -423,6 +474,17 @@ namespace TKR::Problems
     summary.set("wear_area_threshold_mm", parameters.wear.wear_area_threshold);
     if (!cross_shear.empty()) // a resumed run computes a cycle
       summary.set("mean_cross_shear", mean_cross_shear());
+    for (const auto &[side, result] :
+         {std::pair{"medial", last.medial}, std::pair{"lateral", last.lateral}})
+      {
+        const std::string prefix(side);
+        summary.set(prefix + "_volume_loss_mm3", result.volume);
+        summary.set(prefix + "_mass_loss_mg",
+                    parameters.materials.tibia.density * result.volume);
+        summary.set(prefix + "_max_wear_depth_mm", result.max_depth);
+        summary.set(prefix + "_wear_area_percent", result.wear_area_percent);
+        summary.set(prefix + "_mean_cross_shear", result.mean_cross_shear);
+      }
     summary.set("max_pressure_MPa", state.max_pressure);
     summary.set("steps", static_cast<unsigned long long>(state.steps));
     summary.set("contact_solves",

@@ -16,6 +16,8 @@ VTU interval = 1) against its steps.csv and summary.json:
     equals it too;
   - the worn tibia's cross_shear lies in 0 .. 0.5 and summary.json's
     mean_cross_shear between 0 and its largest value;
+  - summary.json's medial and lateral volume and wear area add up to the
+    insert's (1e-9), the larger of their depths is the insert's;
   - mass_loss.png, wear_map.png and cross_shear_map.png are PNG files.
 Prints one line per check with O(1) numbers; exits 1 on the first failure.
 Reads deal.II's zlib-compressed, base64-encoded VTU files with numpy only.
@@ -175,6 +177,18 @@ def main():
              "VTU's largest)" % (mean, cs.max()))
     print("worn tibia: cross_shear within 0 .. 0.5, summary.json's mean "
           "within 0 .. the largest")
+    # the medial and lateral sides add up to the insert
+    sides = [{key: float(summary[side + "_" + key]) for key in
+              ("volume_loss_mm3", "max_wear_depth_mm", "wear_area_percent")}
+             for side in ("medial", "lateral")]
+    for key, total in (("volume_loss_mm3", sum), ("wear_area_percent", sum),
+                       ("max_wear_depth_mm", max)):
+        both = total(side[key] for side in sides)
+        if not close(both, float(summary[key]), 1e-9):
+            fail("medial and lateral %s give %g, the insert %s"
+                 % (key, both, summary[key]))
+    print("sides: medial and lateral volume and wear area add up to the "
+          "insert's, the larger depth is its")
     for name in ("mass_loss.png", "wear_map.png", "cross_shear_map.png"):
         with open(os.path.join(directory, name), "rb") as f:
             if f.read(8) != b"\x89PNG\r\n\x1a\n":

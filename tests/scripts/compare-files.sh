@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: LGPL-2.1-or-later
-# compare-files.sh RESULTS_DIR REFERENCE_PREFIX FILE...
+# compare-files.sh [--relative R] RESULTS_DIR REFERENCE_PREFIX FILE...
 # Compare each FILE written into RESULTS_DIR by a test run with the stored
 # REFERENCE_PREFIX.FILE (or REFERENCE_PREFIX/FILE if REFERENCE_PREFIX is a
 # directory: the files of another run) by numdiff, with a relative
@@ -9,6 +9,11 @@
 # screen comparison of deal.II's tests (absolute 1e-6), this sees the small
 # numbers of summary.json and the CSV files (a wear volume of 1e-5 mm^3).
 set -u
+rel=1e-6
+if [ "${1:-}" = "--relative" ]; then
+  rel=$2
+  shift 2
+fi
 dir=$1
 prefix=$2
 shift 2
@@ -21,10 +26,10 @@ for file in "$@"; do
     status=1
     continue
   fi
-  if ! numdiff -q -a 1e-12 -r 1e-6 -s ' \t\n=,:;<>[](){}^"' \
+  if ! numdiff -q -a 1e-12 -r "$rel" -s ' \t\n=,:;<>[](){}^"' \
       "$dir/$file" "$reference" >/dev/null; then
     echo "compare-files: $file differs from $reference:"
-    numdiff -a 1e-12 -r 1e-6 -s ' \t\n=,:;<>[](){}^"' "$dir/$file" "$reference" | head -40
+    numdiff -a 1e-12 -r "$rel" -s ' \t\n=,:;<>[](){}^"' "$dir/$file" "$reference" | head -40
     status=1
   else
     echo "compare-files: $file ok"

@@ -105,11 +105,28 @@ namespace TKR::Problems
 
     /**
      * The mean cross-shear of the last block's cycle over the tibia_contact
-     * nodes, weighted by each node's frictional work times its area (where
-     * the insert wears by Archard's law), 0 if nothing slid.
+     * nodes (those j with @p select[j] == @p value if @p select is given),
+     * weighted by each node's frictional work times its area (where the
+     * insert wears by Archard's law), 0 if nothing slid.
      */
     double
-    mean_cross_shear() const;
+    mean_cross_shear(const std::vector<bool> &select = {},
+                     const bool               value  = true) const;
+
+    /**
+     * Whether each tibia_contact node lies on the medial side: beyond the
+     * middle of the nodes' x range towards `Gait/Medial side`.
+     */
+    std::vector<bool>
+    medial_nodes() const;
+
+    /** The block's medial or lateral result: the side's share of the
+     *  accumulated depth @p node_depth and of the last cycle. */
+    Wear::SideResult
+    side_result(const std::vector<double> &node_depth,
+                const std::vector<bool>   &medial,
+                const bool                 on_medial,
+                const double               volume) const;
 
     /** History row, progress line, worn tibia VTU, checkpoint. */
     void

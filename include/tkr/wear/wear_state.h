@@ -16,6 +16,24 @@ namespace TKR::Wear
    * The state of the wear run after an extrapolation block: one row of
    * `wear_history.csv`.
    */
+  /**
+   * One side of the insert (medial or lateral, of `Gait/Medial side`):
+   * what labs report for each condyle.
+   */
+  struct SideResult
+  {
+    /** Worn volume so far (mm^3). */
+    double volume = 0;
+    /** Largest accumulated depth (mm). */
+    double max_depth = 0;
+    /** The side's worn area in percent of the whole tibia_contact area (the
+     *  two sides add up to the insert's). */
+    double wear_area_percent = 0;
+    /** The block's cycle's mean cross-shear (frictional work x area
+     *  weighted). */
+    double mean_cross_shear = 0;
+  };
+
   struct BlockResult
   {
     unsigned int block  = 0;
@@ -30,6 +48,8 @@ namespace TKR::Wear
     double peak_pressure = 0, max_contact_area = 0;
     /** Wall time of the run so far (s). */
     double wall_time = 0;
+    /** The medial and the lateral side. */
+    SideResult medial, lateral;
   };
 
   /** A gait step that did not converge (or failed its load balance). */
@@ -69,7 +89,9 @@ namespace TKR::Wear
     /** One row per block done (and block 0). */
     std::vector<BlockResult> history;
     /** Worn volume (mm^3), sums over all blocks, every step converged. */
-    double             volume            = 0;
+    double volume = 0;
+    /** Worn volume of the medial and of the lateral side (mm^3). */
+    double             volume_medial = 0, volume_lateral = 0;
     unsigned long long contact_solves    = 0;
     unsigned long long newton_iterations = 0;
     unsigned long long steps             = 0;
