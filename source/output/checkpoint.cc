@@ -27,6 +27,9 @@ namespace TKR::Output
     constexpr unsigned int format_version = 3;
     /** Columns of the history dataset (Wear::BlockResult). */
     constexpr unsigned int n_history_columns = 9;
+    /** Columns of the sides dataset (Wear::SideResult, medial then
+     *  lateral). */
+    constexpr unsigned int n_side_columns = 8;
 
     /** A dataset of @p values with the dimensions @p dimensions. */
     template <typename T>
@@ -280,7 +283,7 @@ namespace TKR::Output
           sides.insert(
             sides.end(),
             {s.volume, s.max_depth, s.wear_area_percent, s.mean_cross_shear});
-      write_dataset(file, "sides", sides, {rows.size(), 8});
+      write_dataset(file, "sides", sides, {rows.size(), n_side_columns});
     }
 
     std::vector<Wear::BlockResult>
@@ -300,13 +303,16 @@ namespace TKR::Output
                           h[5],
                           h[6],
                           h[7],
-                          h[8]});
+                          h[8],
+                          {}, // the sides: below
+                          {}});
         }
       const auto sides = read_dataset<double>(file, "sides");
-      for (unsigned int i = 0; i < rows.size() && 8 * i + 8 <= sides.size();
+      for (unsigned int i = 0;
+           i < rows.size() && n_side_columns * (i + 1) <= sides.size();
            ++i)
         {
-          const double *s = &sides[8 * i];
+          const double *s = &sides[n_side_columns * i];
           rows[i].medial  = {s[0], s[1], s[2], s[3]};
           rows[i].lateral = {s[4], s[5], s[6], s[7]};
         }

@@ -190,6 +190,7 @@ namespace TKR::Problems
     const auto  measures = model.geometry().worn_surface_measures();
     const auto &surface  = model.geometry().worn_surface().nodes();
     block_areas          = measures.area;
+    block_medial         = medial_nodes();
     const std::vector<Tensor<1, 3>> displacement =
       model.geometry().vertex_displacements();
     for (;;)
@@ -214,9 +215,8 @@ namespace TKR::Problems
             state.volume +=
               effective *
               Wear::measure_wear(cycle_wear.depth, measures.area, 0.).volume;
-            const auto medial = medial_nodes();
             for (unsigned int j = 0; j < surface.size(); ++j)
-              (medial[j] ? state.volume_medial : state.volume_lateral) +=
+              (block_medial[j] ? state.volume_medial : state.volume_lateral) +=
                 effective * cycle_wear.depth[j] * measures.area[j];
             state.cycles += n;
             ++state.block;
@@ -298,13 +298,12 @@ namespace TKR::Problems
 
   Wear::SideResult
   WearProblem::side_result(const std::vector<double> &node_depth,
-                           const std::vector<bool>   &medial,
                            const bool                 on_medial,
                            const double               volume) const
   {
     std::vector<double> depth = node_depth;
     for (unsigned int j = 0; j < depth.size(); ++j)
-      if (medial[j] != on_medial)
+      if (block_medial[j] != on_medial)
         depth[j] = 0;
     const auto measures =
       Wear::measure_wear(depth,
@@ -313,7 +312,7 @@ namespace TKR::Problems
     return {volume,
             measures.max_depth,
             measures.worn_percent(),
-            mean_cross_shear(medial, on_medial)};
+            mean_cross_shear(block_medial, on_medial)};
   }
 
   void
@@ -331,7 +330,6 @@ namespace TKR::Problems
                          block_areas,
                          parameters.wear.wear_area_threshold);
     const double wall_time = state.wall_time + model.wall_time();
-    const auto   medial    = medial_nodes();
     state.history.push_back(
       {state.block,
        state.cycles,
@@ -342,8 +340,8 @@ namespace TKR::Problems
        peak_pressure,
        max_contact_area,
        wall_time,
-       side_result(node_depth, medial, true, state.volume_medial),
-       side_result(node_depth, medial, false, state.volume_lateral)});
+       side_result(node_depth, true, state.volume_medial),
+       side_result(node_depth, false, state.volume_lateral)});
     Output::write_wear_history(output.directory,
                                state.history,
                                output.testing,

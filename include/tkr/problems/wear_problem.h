@@ -120,11 +120,10 @@ namespace TKR::Problems
     std::vector<bool>
     medial_nodes() const;
 
-    /** The block's medial or lateral result: the side's share of the
-     *  accumulated depth @p node_depth and of the last cycle. */
+    /** The block's medial or lateral result (block_medial): the side's
+     *  share of the accumulated depth @p node_depth and of the last cycle. */
     Wear::SideResult
     side_result(const std::vector<double> &node_depth,
-                const std::vector<bool>   &medial,
                 const bool                 on_medial,
                 const double               volume) const;
 
@@ -174,6 +173,9 @@ namespace TKR::Problems
      * and wear area are measured on them.
      */
     std::vector<double> block_areas;
+    /** Whether each of those nodes is medial (medial_nodes()), for the
+     *  block's medial and lateral results. */
+    std::vector<bool> block_medial;
     /** The converged steps of the last cycle that failed the balance. */
     std::vector<unsigned int> unbalanced_steps;
     /** The block's statistics: peak pressure, largest contact area. */

@@ -13,10 +13,6 @@
 namespace TKR::Wear
 {
   /**
-   * The state of the wear run after an extrapolation block: one row of
-   * `wear_history.csv`.
-   */
-  /**
    * One side of the insert (medial or lateral, of `Gait/Medial side`):
    * what labs report for each condyle.
    */
@@ -34,6 +30,10 @@ namespace TKR::Wear
     double mean_cross_shear = 0;
   };
 
+  /**
+   * The state of the wear run after an extrapolation block: one row of
+   * `wear_history.csv`.
+   */
   struct BlockResult
   {
     unsigned int block  = 0;
