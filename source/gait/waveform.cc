@@ -3,12 +3,12 @@
 
 #include <deal.II/base/utilities.h>
 
+#include <tkr/base/csv_table.h>
 #include <tkr/base/exceptions.h>
 #include <tkr/gait/waveform.h>
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 
 namespace TKR::Gait
 {
@@ -19,121 +19,43 @@ namespace TKR::Gait
     : filename(filename)
     , channel_names(std::move(channels))
   {
-    std::ifstream in(filename);
-    AssertThrow(in.good(),
-                ExcInputError("Cannot open the waveform file <" + filename +
-                              ">: it does not exist or is not readable."));
-    std::string               line;
-    unsigned int              line_number = 0;
-    std::vector<unsigned int> columns;
-    unsigned int              n_columns = 0;
-    std::vector<double>       last_row;
-    while (std::getline(in, line))
+    std::vector<std::string> columns = {"percent_cycle"};
+    columns.insert(columns.end(), channel_names.begin(), channel_names.end());
+    const CsvTable table(filename,
+                         "waveform file",
+                         columns,
+                         {},
+                         "percent_cycle and the protocol's channels, e.g. "
+                         "percent_cycle,flexion_deg,axial_force_N,"
+                         "ap_force_N,ie_torque_Nm",
+                         "doc/gait.md");
+    for (unsigned int r = 0; r < table.n_rows(); ++r)
       {
-        ++line_number;
-        const std::string trimmed = Utilities::trim(line);
-        if (trimmed.empty() || trimmed[0] == '#')
-          continue;
-        const auto        fields = Utilities::split_string_list(trimmed, ',');
-        const std::string where  = "Line <" + std::to_string(line_number) +
-                                  "> of the waveform file <" + filename + ">: ";
-        if (columns.empty())
-          {
-            columns   = find_columns(trimmed, line_number);
-            n_columns = fields.size();
-            continue;
-          }
-        AssertThrow(fields.size() == n_columns,
-                    ExcInputError(where + "expected " +
-                                  std::to_string(n_columns) +
-                                  " comma-separated values (one per column "
-                                  "of the header), found " +
-                                  std::to_string(fields.size()) + "."));
-        std::vector<double> values;
-        try
-          {
-            values = Utilities::string_to_double(fields);
-          }
-        catch (...)
-          {
-            AssertThrow(false,
-                        ExcInputError(where + "a value is not a number."));
-          }
-        const double percent = values[columns[0]];
-        AssertThrow(percents.empty() ? percent == 0. :
-                                       percent > percents.back(),
-                    ExcInputError(where + (percents.empty() ?
-                                             "the first row must be at 0 %." :
-                                             "percentages must increase.")));
+        const double percent = table(r, "percent_cycle");
+        AssertThrow(
+          percents.empty() ? percent == 0. : percent > percents.back(),
+          ExcInputError(table.where(r) + (percents.empty() ?
+                                            "the first row must be at 0 %." :
+                                            "percentages must increase.")));
         AssertThrow(percent <= 100.,
-                    ExcInputError(where + "percent above 100."));
-        std::vector<double> row;
-        for (unsigned int c = 1; c < columns.size(); ++c)
-          row.push_back(values[columns[c]]);
+                    ExcInputError(table.where(r) + "percent above 100."));
         percents.push_back(percent);
-        rows.push_back(row);
+        rows.emplace_back(table.row(r).begin() + 1, table.row(r).end());
       }
-    AssertThrow(!columns.empty(),
-                ExcInputError("The waveform file <" + filename +
-                              "> has no header line naming its columns."));
     AssertThrow(rows.size() >= 2,
-                ExcInputError("The waveform file <" + filename +
-                              "> needs at least two rows of data."));
+                ExcInputError(table.name() +
+                              " needs at least two rows of data."));
     if (percents.back() == 100.)
       {
         AssertThrow(rows.back() == rows.front(),
-                    ExcInputError("The waveform file <" + filename +
-                                  ">: the row at 100 % must repeat the row "
+                    ExcInputError(table.name() +
+                                  ": the row at 100 % must repeat the row "
                                   "at 0 % (the cycle is periodic)."));
         percents.pop_back();
         rows.pop_back();
         return;
       }
     check_coverage();
-  }
-
-  std::vector<unsigned int>
-  Waveform::find_columns(const std::string &header,
-                         const unsigned int line) const
-  {
-    const auto names   = Utilities::split_string_list(header, ',');
-    bool       numbers = true;
-    try
-      {
-        Utilities::string_to_double(names);
-      }
-    catch (...)
-      {
-        numbers = false;
-      }
-    AssertThrow(!numbers,
-                ExcInputError("Line <" + std::to_string(line) +
-                              "> of the waveform file <" + filename +
-                              ">: the first line that is not a comment must "
-                              "be a header naming the columns (percent_cycle "
-                              "and the protocol's channels, e.g. "
-                              "percent_cycle,flexion_deg,axial_force_N,"
-                              "ap_force_N,ie_torque_Nm), not numbers."));
-    std::vector<unsigned int> columns;
-    std::vector<std::string>  wanted = {"percent_cycle"};
-    wanted.insert(wanted.end(), channel_names.begin(), channel_names.end());
-    for (const auto &name : wanted)
-      {
-        const auto  it = std::find(names.begin(), names.end(), name);
-        std::string list;
-        for (const auto &n : names)
-          list += (list.empty() ? "" : ", ") + n;
-        AssertThrow(it != names.end(),
-                    ExcInputError("Line <" + std::to_string(line) +
-                                  "> of the waveform file <" + filename +
-                                  ">: the header (" + list +
-                                  ") has no column named " + name +
-                                  "; the columns are found by their names "
-                                  "in the first line that is not a comment "
-                                  "(doc/gait.md)."));
-        columns.push_back(it - names.begin());
-      }
-    return columns;
   }
 
   // Rows up to 99 % every 1 % cover the cycle (the last interval blends

@@ -227,17 +227,44 @@ namespace TKR::Parameters
   {
     prm.enter_subsection("Wear");
     {
-      prm.declare_entry("Wear law",
-                        "archard",
-                        Patterns::Selection("archard"),
-                        "How the sliding of a gait cycle wears the insert "
-                        "(doc/wear.md): archard = Archard's law with the "
-                        "constant Wear coefficient k, depth rate k p |v_t| "
-                        "(the reference paper's model).");
+      prm.declare_entry(
+        "Wear law",
+        "archard",
+        Patterns::Selection("archard|archard_cs|area"),
+        "How the sliding of a gait cycle wears the insert (doc/wear.md): "
+        "archard = Archard's law with the constant Wear coefficient k, depth "
+        "rate k p |v_t| (the reference paper's model); archard_cs = Archard's "
+        "law with k from the Cross-shear table as a function of each node's "
+        "cross-shear over the cycle (and of the pressure if the table has a "
+        "pressure_MPa column); area = the contact-area law, worn volume = C x "
+        "contact area x sliding distance, i.e. depth rate C(cross-shear) "
+        "|v_t| whatever the pressure, C from the Cross-shear table.");
       prm.declare_entry("Wear coefficient",
                         "2e-7",
                         Patterns::Double(0),
-                        "Archard wear coefficient k in mm^3/(N m).");
+                        "Archard wear coefficient k in mm^3/(N m) (Wear law "
+                        "= archard).");
+      prm.declare_entry(
+        "Cross-shear table",
+        "",
+        Patterns::FileName(),
+        "CSV file of the coefficient over the cross-shear ratio, for Wear "
+        "law = archard_cs (columns cross_shear, k_mm3_per_Nm and optionally "
+        "pressure_MPa) and area (columns cross_shear, C: dimensionless); "
+        "piecewise linear, constant beyond the first and last row "
+        "(doc/wear.md, Cross-shear tables). data/wear/ has EXAMPLE tables "
+        "only: no published coefficients are shipped. A relative path is "
+        "taken from the directory of the parameter file that sets it, then "
+        "from the working directory.");
+      prm.declare_entry(
+        "Run-in file",
+        "",
+        Patterns::FileName(),
+        "CSV file (columns cycles, factor) of a factor on the wear rate over "
+        "the cycle count, piecewise linear and constant beyond the last row, "
+        "integrated exactly over each extrapolation block (doc/wear.md, "
+        "Run-in); empty: no run-in (factor 1). Any wear law. A relative path "
+        "is found as the Cross-shear table's.");
       prm.declare_entry("Cycles",
                         "5e6",
                         Patterns::Double(0),
@@ -291,9 +318,20 @@ namespace TKR::Parameters
   {
     prm.enter_subsection("Wear");
     {
-      law              = WearLawType::archard;
-      wear_coefficient = prm.get_double("Wear coefficient");
-      cycles           = prm.get_double("Cycles");
+      const std::string name = prm.get("Wear law");
+      law                    = (name == "archard"    ? WearLawType::archard :
+                                name == "archard_cs" ? WearLawType::archard_cs :
+                                                       WearLawType::area);
+      wear_coefficient       = prm.get_double("Wear coefficient");
+      cross_shear_table      = prm.get("Cross-shear table");
+      run_in_file            = prm.get("Run-in file");
+      AssertThrow(law == WearLawType::archard || !cross_shear_table.empty(),
+                  ExcInputError("Wear/Wear law = " + name +
+                                " needs Wear/Cross-shear table, a CSV file "
+                                "of its coefficient over the cross-shear "
+                                "(doc/wear.md; data/wear/ has example "
+                                "tables)."));
+      cycles = prm.get_double("Cycles");
       cycles_per_extrapolation_step =
         prm.get_double("Cycles per extrapolation step");
       wear_area_threshold       = prm.get_double("Wear area threshold");

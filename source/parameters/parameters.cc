@@ -562,6 +562,8 @@ namespace TKR::Parameters
     };
     resolve(parameters.mesh.file, "Mesh/File");
     resolve(parameters.gait.waveform_file, "Gait/Waveform file");
+    resolve(parameters.wear.cross_shear_table, "Wear/Cross-shear table");
+    resolve(parameters.wear.run_in_file, "Wear/Run-in file");
     resolve(parameters.output.measured_mass_loss_file,
             "Output/Measured mass loss file");
     return parameters;

@@ -122,20 +122,22 @@ namespace TKR::Problems
   }
 
   // The first cycle (on the unworn insert) is reported in full, per
-  // million cycles, so that regression tests compare O(1) numbers; its
-  // wear area counts the nodes whose depth extrapolated linearly to the
-  // Cycles of the parameter file exceeds the threshold.
+  // million cycles (at the law's rate, without the run-in factor), so that
+  // regression tests compare O(1) numbers; its wear area counts the nodes
+  // whose depth extrapolated linearly to the Cycles of the parameter file
+  // (with the run-in) exceeds the threshold.
   void
   WearProblem::report_first_cycle()
   {
-    const auto &parameters = model.parameters();
-    const auto &wear       = parameters.wear;
-    const auto &reports    = cycle.get_reports();
-    const auto  measures =
+    const auto  &parameters = model.parameters();
+    const auto  &wear       = parameters.wear;
+    const auto  &reports    = cycle.get_reports();
+    const double cycles     = law->effective_cycles(0, wear.cycles);
+    const auto   measures =
       Wear::measure_wear(cycle_wear.depth,
                          model.geometry().worn_surface_measures().area,
                          wear.wear_area_threshold,
-                         wear.cycles);
+                         cycles);
     const double mass = parameters.materials.tibia.density * measures.volume;
     unsigned int n_newton = 0, n_solves = 0, n_converged = 0;
     for (const auto &r : reports)
@@ -161,7 +163,7 @@ namespace TKR::Problems
                   << " cycles > " << wear.wear_area_threshold << " mm)"
                   << std::endl
                   << "  linear extrapolation to " << wear.cycles
-                  << " cycles without geometry update: " << mass * wear.cycles
+                  << " cycles without geometry update: " << mass * cycles
                   << " mg" << std::endl
                   << "  steps: " << reports.size()
                   << ", converged: " << n_converged
@@ -493,7 +495,8 @@ namespace TKR::Problems
     summary.set("first_cycle_mass_loss_mg_per_million_cycles",
                 1e6 * state.first_cycle_mass);
     summary.set("linear_extrapolation_mass_loss_mg",
-                state.first_cycle_mass * parameters.wear.cycles);
+                state.first_cycle_mass *
+                  law->effective_cycles(0, parameters.wear.cycles));
     summary.set("stiffness_update_interval",
                 parameters.wear.stiffness_update_interval);
     summary.set("step_groups", groups.n_groups);

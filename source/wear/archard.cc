@@ -13,7 +13,7 @@ namespace TKR::Wear
   {}
 
   std::string
-  ArchardWear::description() const
+  ArchardWear::law_description() const
   {
     std::ostringstream text;
     text << "Archard, k = " << k_per_metre << " mm^3/(N m)";

@@ -3,9 +3,11 @@
 
 #include <tkr/base/exceptions.h>
 #include <tkr/wear/archard.h>
+#include <tkr/wear/cross_shear_laws.h>
 #include <tkr/wear/wear_law.h>
 
 #include <algorithm>
+#include <filesystem>
 
 namespace TKR::Wear
 {
@@ -13,10 +15,30 @@ namespace TKR::Wear
   WearLaw::analyse_cycle(const CycleSliding &)
   {}
 
-  double
-  WearLaw::effective_cycles(const double, const double n_cycles) const
+  std::string
+  WearLaw::description() const
   {
-    return n_cycles;
+    return law_description() +
+           (run_in.empty() ?
+              "" :
+              ", run-in factor of <" +
+                std::filesystem::path(run_in_file).filename().string() + ">");
+  }
+
+  double
+  WearLaw::effective_cycles(const double first_cycle,
+                            const double n_cycles) const
+  {
+    return run_in.empty() ?
+             n_cycles :
+             run_in.integral(first_cycle, first_cycle + n_cycles);
+  }
+
+  void
+  WearLaw::set_run_in(const PiecewiseLinear &factor, const std::string &file)
+  {
+    run_in      = factor;
+    run_in_file = file;
   }
 
   NodeFields
@@ -53,13 +75,27 @@ namespace TKR::Wear
   std::unique_ptr<WearLaw>
   create_wear_law(const Parameters::Wear &parameters)
   {
+    std::unique_ptr<WearLaw> law;
     switch (parameters.law)
       {
         case Parameters::WearLawType::archard:
-          return std::make_unique<ArchardWear>(parameters.wear_coefficient);
+          law = std::make_unique<ArchardWear>(parameters.wear_coefficient);
+          break;
+        case Parameters::WearLawType::archard_cs:
+          law = std::make_unique<ArchardCrossShearWear>(
+            CrossShearTable(parameters.cross_shear_table,
+                            "k_mm3_per_Nm",
+                            true));
+          break;
+        case Parameters::WearLawType::area:
+          law = std::make_unique<AreaWear>(
+            CrossShearTable(parameters.cross_shear_table, "C", false));
+          break;
       }
-    AssertThrow(false, dealii::ExcNotImplemented());
-    return nullptr;
+    if (!parameters.run_in_file.empty())
+      law->set_run_in(read_run_in(parameters.run_in_file),
+                      parameters.run_in_file);
+    return law;
   }
 
   WearMeasures

@@ -61,10 +61,6 @@ namespace TKR::Gait
     }
 
   private:
-    /** The column of each channel in the header @p header (at @p line). */
-    std::vector<unsigned int>
-    find_columns(const std::string &header, const unsigned int line) const;
-
     /** Refuse a table that does not cover the whole cycle. */
     void
     check_coverage() const;

@@ -200,7 +200,11 @@ namespace TKR::Parameters
   enum class WearLawType
   {
     /** Archard's law with a constant wear coefficient. */
-    archard
+    archard,
+    /** Archard's law with k from a table over cross-shear (and pressure). */
+    archard_cs,
+    /** The contact-area law: depth = C(cross-shear) x slip. */
+    area
   };
 
   /** `subsection Wear`: the wear law and its extrapolation. */
@@ -210,6 +214,10 @@ namespace TKR::Parameters
     WearLawType law;
     /** Archard wear coefficient k in mm^3/(N m), as in the literature. */
     double wear_coefficient;
+    /** The CSV table of k or C over cross-shear (archard_cs, area). */
+    std::string cross_shear_table;
+    /** The CSV table of the run-in factor over cycles (empty: none). */
+    std::string run_in_file;
     /** Total number of gait cycles. */
     double cycles;
     /** Cycles per extrapolation step (n_Delta). */

@@ -28,13 +28,14 @@ namespace TKR::Wear
       return "archard";
     }
 
-    std::string
-    description() const override;
-
     double
     interval_depth(const CycleSliding &sliding,
                    const unsigned int  i,
                    const unsigned int  j) const override;
+
+  protected:
+    std::string
+    law_description() const override;
 
   private:
     /** The coefficient in mm^3/(N m), as given. */

@@ -6,6 +6,7 @@
 
 #include <tkr/parameters/parameters.h>
 #include <tkr/wear/sliding.h>
+#include <tkr/wear/tables.h>
 
 #include <memory>
 #include <string>
@@ -61,9 +62,10 @@ namespace TKR::Wear
     virtual std::string
     name() const = 0;
 
-    /** One line for the screen: the law and its constants with units. */
-    virtual std::string
-    description() const = 0;
+    /** One line for the screen: the law and its constants with units, and
+     *  the run-in if there is one. */
+    std::string
+    description() const;
 
     /**
      * Phase 1: per-node quantities over the whole cycle @p sliding, kept
@@ -84,11 +86,18 @@ namespace TKR::Wear
     /**
      * The number of cycles of wear at the rate of the cycle computed at
      * cycle @p first_cycle that a block of @p n_cycles cycles from there
-     * adds: @p n_cycles for a law whose rate does not depend on the cycle
-     * count, the integral of the rate factor over the block for a run-in.
+     * adds: @p n_cycles without a run-in, the exact integral of the run-in
+     * factor over the block with one.
      */
-    virtual double
+    double
     effective_cycles(const double first_cycle, const double n_cycles) const;
+
+    /**
+     * Multiply the wear rate by the cycle-dependent @p factor (the run-in
+     * of @p file, read_run_in()) from now on.
+     */
+    void
+    set_run_in(const PiecewiseLinear &factor, const std::string &file);
 
     /** The law's per-node quantities of the cycle analysed last. */
     virtual NodeFields
@@ -97,6 +106,16 @@ namespace TKR::Wear
     /** Both phases over the cycle @p sliding. */
     CycleWear
     cycle_wear(const CycleSliding &sliding);
+
+  protected:
+    /** The law and its constants with units, for description(). */
+    virtual std::string
+    law_description() const = 0;
+
+  private:
+    /** The run-in factor over the cycle count (empty: none) and its file. */
+    PiecewiseLinear run_in;
+    std::string     run_in_file;
   };
 
   /** The law of `Wear/Wear law` with its constants. */

@@ -1,0 +1,93 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#ifndef tkr_wear_cross_shear_laws_h
+#define tkr_wear_cross_shear_laws_h
+
+#include <tkr/wear/tables.h>
+#include <tkr/wear/wear_law.h>
+
+namespace TKR::Wear
+{
+  /**
+   * The laws that depend on each node's cross-shear over the cycle
+   * (cycle_cross_shear(), doc/wear.md "Cross-shear"): analyse_cycle()
+   * keeps the ratios, node_fields() has nothing beyond what every run
+   * writes.
+   */
+  class CrossShearLaw : public WearLaw
+  {
+  public:
+    void
+    analyse_cycle(const CycleSliding &sliding) override;
+
+  protected:
+    /** The cross-shear ratio of every node over the cycle analysed last. */
+    std::vector<double> ratio;
+  };
+
+  /**
+   * Archard's law with a wear coefficient that depends on the node's
+   * cross-shear over the cycle and optionally on the contact pressure
+   * (`Wear law = archard_cs`, doc/wear.md): the depth of an interval is
+   * (k(CS, p_a) p_a |s_a| + k(CS, p_b) p_b |s_b|) / 2, as ArchardWear's
+   * with k from the table (column k_mm3_per_Nm, in mm^3/(N m)).
+   */
+  class ArchardCrossShearWear : public CrossShearLaw
+  {
+  public:
+    explicit ArchardCrossShearWear(const CrossShearTable &k_per_metre);
+
+    std::string
+    name() const override
+    {
+      return "archard_cs";
+    }
+
+    double
+    interval_depth(const CycleSliding &sliding,
+                   const unsigned int  i,
+                   const unsigned int  j) const override;
+
+  protected:
+    std::string
+    law_description() const override;
+
+  private:
+    /** k in mm^3/(N m) over cross-shear (and pressure in MPa). */
+    const CrossShearTable k_per_metre;
+  };
+
+  /**
+   * The contact-area law (`Wear law = area`, doc/wear.md): worn volume =
+   * C(CS) x contact area x sliding distance, i.e. a node's depth over an
+   * interval is C(CS) times its slip distance there
+   * (IntervalSliding::slip_distance()), whatever the pressure; C is
+   * dimensionless (column C of the table).
+   */
+  class AreaWear : public CrossShearLaw
+  {
+  public:
+    explicit AreaWear(const CrossShearTable &c);
+
+    std::string
+    name() const override
+    {
+      return "area";
+    }
+
+    double
+    interval_depth(const CycleSliding &sliding,
+                   const unsigned int  i,
+                   const unsigned int  j) const override;
+
+  protected:
+    std::string
+    law_description() const override;
+
+  private:
+    const CrossShearTable c;
+  };
+} // namespace TKR::Wear
+
+#endif
