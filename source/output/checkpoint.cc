@@ -123,6 +123,20 @@ namespace TKR::Output
       return entries;
     }
 
+    /**
+     * State entries added to the program after checkpoints were first
+     * written, with the value that means what a checkpoint without the entry
+     * did (the behaviour before the entry existed).
+     */
+    const std::map<std::string, std::string> &
+    entries_added_later()
+    {
+      static const std::map<std::string, std::string> added = {
+        {"Wear/Cross-shear table (checksum)", ""},
+        {"Wear/Run-in file (checksum)", ""}};
+      return added;
+    }
+
     /** Refuse a checkpoint whose state parameters differ from @p now. */
     void
     check_parameters(const std::string                        &filename,
@@ -131,18 +145,27 @@ namespace TKR::Output
     {
       for (const auto &[entry, value] : now)
         {
-          const auto        it = then.find(entry);
-          const std::string old_value =
-            it == then.end() ? "(not recorded)" : it->second;
-          AssertThrow(old_value == value,
-                      ExcInputError(
-                        "--resume: the checkpoint <" + filename +
-                        "> was written with " + entry + " = " + old_value +
-                        ", but the parameter file sets " + value +
-                        ". A run can only be resumed with the entries that "
-                        "determine its wear state unchanged (doc/output.md); "
-                        "change it back, or start a new run in another "
-                        "Output/Directory."));
+          const auto it = then.find(entry);
+          if (it == then.end())
+            if (const auto added = entries_added_later().find(entry);
+                added != entries_added_later().end() && added->second == value)
+              continue;
+          if (it != then.end() && it->second == value)
+            continue;
+          const auto shown = [](const std::string &v) {
+            return v.empty() ? std::string("(empty)") : v;
+          };
+          AssertThrow(
+            false,
+            ExcInputError(
+              "--resume: the checkpoint <" + filename + "> was written with " +
+              entry + " = " +
+              (it == then.end() ? "(not recorded)" : shown(it->second)) +
+              ", but the parameter file sets " + shown(value) +
+              ". A run can only be resumed with the entries that "
+              "determine its wear state unchanged (doc/wear.md, Restart); "
+              "change it back, or start a new run in another "
+              "Output/Directory."));
         }
     }
   } // namespace
@@ -161,11 +184,16 @@ namespace TKR::Output
            entry != "Gait/Waveform file") ||
           (starts_with(entry, "Wear/") && entry != "Wear/Cycles" &&
            entry != "Wear/Distortion limit" &&
-           entry != "Wear/Halve step on distortion"))
+           entry != "Wear/Halve step on distortion" &&
+           entry != "Wear/Cross-shear table" && entry != "Wear/Run-in file"))
         state[entry] = value;
     state["Mesh/File (checksum)"] = checksum(parameters.mesh.file);
     state["Gait/Waveform file (checksum)"] =
       checksum(parameters.gait.waveform_file);
+    state["Wear/Cross-shear table (checksum)"] =
+      checksum(parameters.wear.cross_shear_table);
+    state["Wear/Run-in file (checksum)"] =
+      checksum(parameters.wear.run_in_file);
     return state;
   }
 

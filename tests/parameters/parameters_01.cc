@@ -460,11 +460,27 @@ namespace
                               "3e-7",
                               [](const P &
                                    p) { return num(p.wear.wear_coefficient); }},
-                             {"Wear/Wear law", "archard", [](const P &p) {
+                             {"Wear/Wear law",
+                              "area",
+                              [](const P &p) {
                                 return p.wear.law == WearLawType::archard ?
                                          std::string("archard") :
+                                       p.wear.law == WearLawType::area ?
+                                         std::string("area") :
                                          std::string("?");
-                              }}};
+                              }},
+                             {"Wear/Cross-shear table",
+                              source + "/data/wear/example-area-law.csv",
+                              [](const P &p) {
+                                return file_name(p.wear.cross_shear_table);
+                              },
+                              true},
+                             {"Wear/Run-in file",
+                              source + "/data/wear/example-run-in.csv",
+                              [](const P &p) {
+                                return file_name(p.wear.run_in_file);
+                              },
+                              true}};
     for (const bool femur : {true, false})
       {
         const std::string m = femur ? "Materials/Femur/" : "Materials/Tibia/";
