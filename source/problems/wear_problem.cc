@@ -497,6 +497,14 @@ namespace TKR::Problems
     summary.set("linear_extrapolation_mass_loss_mg",
                 state.first_cycle_mass *
                   law->effective_cycles(0, parameters.wear.cycles));
+    if (const auto &run_in = law->get_run_in(); !run_in.empty())
+      {
+        // The run-in factor's points, for mass_loss.png (scripts/plot-wear).
+        std::vector<Output::Summary::Record> points;
+        for (const auto &[cycles, factor] : run_in.points())
+          points.push_back({{"cycles", cycles}, {"factor", factor}});
+        summary.set("run_in_factor", points);
+      }
     summary.set("stiffness_update_interval",
                 parameters.wear.stiffness_update_interval);
     summary.set("step_groups", groups.n_groups);

@@ -22,6 +22,15 @@ namespace TKR::Wear
       Assert(xs[i] > xs[i - 1], ExcMessage("The x values must increase."));
   }
 
+  std::vector<std::pair<double, double>>
+  PiecewiseLinear::points() const
+  {
+    std::vector<std::pair<double, double>> result;
+    for (unsigned int i = 0; i < xs.size(); ++i)
+      result.emplace_back(xs[i], ys[i]);
+    return result;
+  }
+
   double
   PiecewiseLinear::value(const double x) const
   {

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: LGPL-2.1-or-later
 # Test of scripts/plot-wear on a tiny synthetic output directory (a 10 x 10
-# node grid with a Gaussian wear depth, a 5-row history): both PNGs are
-# written and valid, and input errors give exit code 1 and one line.
+# node grid with a Gaussian wear depth, a 5-row history): the PNGs are
+# written and valid (also with a run-in factor, drawn on mass_loss.png),
+# and input errors give exit code 1 and one line.
 # Run from anywhere: bash tests/scripts/plot_wear_test.sh. Exit code 0 only
 # when every check passed. Needs python3 and Debian's python3-matplotlib
 # and python3-numpy (plot-wear finds /usr/bin/python3 by itself).
@@ -69,6 +70,34 @@ check "wear_map.png is a PNG" is_png "$work/run/wear_map.png"
 check "cross_shear_map.png is a PNG" is_png "$work/run/cross_shear_map.png"
 
 check "--help exits 0" "$plot" --help >/dev/null
+
+echo "== a run with a run-in (summary.json's run_in_factor)"
+cp -r "$work/run" "$work/run_in"
+python3 - "$work/run_in/summary.json" <<'EOF2'
+import json, sys
+summary = json.load(open(sys.argv[1]))
+summary["run_in_factor"] = [{"cycles": 0, "factor": 3}, {"cycles": 1e6, "factor": 1}]
+json.dump(summary, open(sys.argv[1], "w"))
+EOF2
+"$plot" "$work/run_in" 2>"$work/stderr"
+status=$?
+cat "$work/stderr" >&2
+check "run-in: exit 0, nothing on stderr" test $status -eq 0 -a ! -s "$work/stderr"
+check "run-in: mass_loss.png is a PNG" is_png "$work/run_in/mass_loss.png"
+differs() { ! cmp -s "$1" "$2"; }
+check "run-in: mass_loss.png differs from the run without" \
+  differs "$work/run/mass_loss.png" "$work/run_in/mass_loss.png"
+python3 - "$work/run_in/summary.json" <<'EOF2'
+import json, sys
+summary = json.load(open(sys.argv[1]))
+summary["run_in_factor"] = [{"cycles": "zero"}]
+json.dump(summary, open(sys.argv[1], "w"))
+EOF2
+"$plot" "$work/run_in" 2>"$work/stderr"
+status=$?
+cat "$work/stderr"
+check "malformed run_in_factor: exit 0, one warning" \
+  test $status -eq 0 -a "$(grep -c "run_in_factor ignored" "$work/stderr")" -eq 1
 
 echo "== input errors"
 cp -r "$work/run" "$work/no_history"

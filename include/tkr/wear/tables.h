@@ -5,6 +5,7 @@
 #define tkr_wear_tables_h
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace TKR::Wear
@@ -33,6 +34,10 @@ namespace TKR::Wear
     {
       return xs.empty();
     }
+
+    /** The points (x, y) that define the function. */
+    std::vector<std::pair<double, double>>
+    points() const;
 
   private:
     /** The integral from the first point to @p x (negative before it). */

@@ -99,6 +99,13 @@ namespace TKR::Wear
     void
     set_run_in(const PiecewiseLinear &factor, const std::string &file);
 
+    /** The run-in factor over the cycle count (empty without a run-in). */
+    const PiecewiseLinear &
+    get_run_in() const
+    {
+      return run_in;
+    }
+
     /** The law's per-node quantities of the cycle analysed last. */
     virtual NodeFields
     node_fields() const;
