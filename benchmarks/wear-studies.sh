@@ -9,10 +9,9 @@
 # and B, coarse and medium, n_Delta 5e4), fine (TKR A and B fine, n_Delta
 # 5e4: about an hour each on this machine), laws (TKR A and B medium under
 # Wear law = archard, archard_cs and area with the EXAMPLE tables of
-# data/wear, about 10 min each), laws-ndelta (coarse TKR A, each law and
-# Archard with the example run-in, n_Delta 5e4 and 2.5e4); laws-a, laws-b:
-# laws for one design. Default: ndelta
-# meshes.
+# data/wear, 7-20 min each), laws-ndelta (coarse TKR A, each law and
+# Archard with the example run-in, n_Delta 5e4 and 2.5e4, 2-7 min each);
+# laws-a, laws-b: the laws for one design. Default: ndelta meshes.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 ranks=${1:-2}
