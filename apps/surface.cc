@@ -527,6 +527,16 @@ namespace
         repairs.push_back(PMP::does_self_intersect(mesh) ?
                             "self-intersections: local removal failed" :
                             "self-intersections removed locally");
+        // The orientation test above needs a surface that does not
+        // intersect itself: a reversed surface with folds may pass it
+        // (the scan-like TKR A insert in metres, seed 4). Test again.
+        if (CGAL::is_closed(mesh) && !PMP::does_self_intersect(mesh) &&
+            !PMP::is_outward_oriented(mesh))
+          {
+            PMP::reverse_face_orientations(mesh);
+            repairs.push_back("orientation reversed (inward once the "
+                              "self-intersections were removed)");
+          }
       }
     for (const std::string &r : repairs)
       out << "repair: " << r << "\n";

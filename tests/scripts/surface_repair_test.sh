@@ -7,7 +7,9 @@
 # remeshed into a closed, outward surface without self-intersections whose
 # volume is that of the clean export within 1 %; an unreadable file, an
 # open sheet (it encloses no volume) and a file of degenerate triangles end
-# with one error line and exit 1. Argument: the tkr-surface executable.
+# with one error line and exit 1; a reversed TKR A insert whose folds hide
+# the inward orientation is reversed once they are gone. Argument: the
+# tkr-surface executable.
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/checks.sh"
 tool=$1
@@ -29,6 +31,19 @@ check "the clean export has no defect" grep -q "defects: none" "$work/clean.log"
 volume() { sed -n 's/.*volume \([0-9.e+]*\) mm3.*/\1/p' "$1"; }
 close() { $py -c "import sys; a, b = float(sys.argv[1]), float(sys.argv[2]); print(a, b, abs(a / b - 1)); sys.exit(abs(a / b - 1) > 0.01)" "$@"; }
 check "volume within 1 % of the clean export's" close "$(volume "$work/scan.log")" "$(volume "$work/clean.log")"
+# A reversed surface whose folds hide the inward orientation (the scan-like
+# TKR A insert, seed 4: CGAL's orientation test needs a surface without
+# self-intersections): reversed once the folds are removed, not replaced by
+# its alpha wrap (which rounded the rim and failed later, issue 19).
+$py "$root/meshes/gen/scanlike.py" "$cad/tkr-a-insert.stl" "$work/a4.stl" --seed 4 --duplicates 1 \
+  --holes 1 --flip > /dev/null
+"$tool" "$work/a4.stl" "$work/a4-out.stl" --size 1.5 > "$work/a4.log" 2>&1
+echo "exit $?" >> "$work/a4.log"
+cat "$work/a4.log"
+check "hidden inward orientation reversed after the fold removal" \
+  grep -q "repair: orientation reversed (inward once the self-intersections were removed)" "$work/a4.log"
+check "no alpha wrap" bash -c "! grep -q 'alpha wrap' '$work/a4.log'"
+check "result valid, exit 0" bash -c "grep -q 'result: closed, outward, no self-intersection' '$work/a4.log' && grep -q 'exit 0' '$work/a4.log'"
 echo "solid nothing" > "$work/bad.stl"
 refused() { # refused FILE LINES FRAGMENT: exit 1, LINES lines, the last one "error: ...FRAGMENT"
   "$tool" "$1" "$work/x.stl" > "$work/refused.log" 2>&1
