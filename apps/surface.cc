@@ -18,11 +18,13 @@
 //    (triangulate_and_refine_hole), outward orientation, degenerate
 //    faces removed, self-intersections removed locally (experimental::
 //    remove_self_intersections: the folded triangles are smoothed or cut
-//    out and the holes filled).  Where the surface still intersects itself
-//    or is not closed, it is replaced by its alpha wrap (CGAL::alpha_wrap_3:
-//    closed, manifold, not self-intersecting by construction; alpha a
-//    (default H/2), offset a/50 outwards; it rounds sharp edges over about
-//    alpha).
+//    out and the holes filled), folds that do not intersect (edges whose
+//    two triangles' normals are more than 150 degrees apart) cut out with
+//    the triangles around them and the holes filled.  Where the surface still
+//    intersects itself or is not closed, it is replaced by its alpha wrap
+//    (CGAL::alpha_wrap_3: closed, manifold, not self-intersecting by
+//    construction; alpha a (default H/2), offset a/50 outwards; it rounds sharp
+//    edges over about alpha).
 // 3. Remesh isotropically (isotropic_remeshing, 5 iterations) with target
 //    edge length H, sharp edges (dihedral angle above A, in chains of at
 //    least 2H) kept as constraints, then the faces within D of OTHER again
@@ -40,6 +42,7 @@
 #include <CGAL/IO/polygon_soup_io.h>
 #include <CGAL/Polygon_mesh_processing/bbox.h>
 #include <CGAL/Polygon_mesh_processing/border.h>
+#include <CGAL/Polygon_mesh_processing/compute_normal.h>
 #include <CGAL/Polygon_mesh_processing/detect_features.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
@@ -53,6 +56,7 @@
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/alpha_wrap_3.h>
+#include <CGAL/boost/graph/Euler_operations.h>
 
 #include <array>
 #include <cmath>
@@ -60,6 +64,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -259,6 +264,51 @@ namespace
                                          std::back_inserter(vertices));
       }
     return borders.size();
+  }
+
+  // Folds that do not intersect: edges whose two triangles are turned back
+  // on each other (normals more than 150 degrees apart), as a vertex pushed
+  // past its neighbour on a coarse surface leaves them.  CGAL's
+  // self-intersection test does not see them; a knife edge that sharp is
+  // no feature of an implant.
+  Defect
+  folded_edges(const Mesh &mesh, std::vector<Mesh::Edge_index> &folded)
+  {
+    Defect d{"folded edges (their two triangles turned back on each other, "
+             "not intersecting)"};
+    for (auto e : edges(mesh))
+      {
+        if (mesh.is_border(e))
+          continue;
+        const auto h  = mesh.halfedge(e);
+        const auto n1 = PMP::compute_face_normal(mesh.face(h), mesh);
+        const auto n2 =
+          PMP::compute_face_normal(mesh.face(mesh.opposite(h)), mesh);
+        if (n1 * n2 < -0.866)
+          {
+            folded.push_back(e);
+            d.add(CGAL::midpoint(mesh.point(mesh.vertex(e, 0)),
+                                 mesh.point(mesh.vertex(e, 1))));
+          }
+      }
+    return d;
+  }
+
+  // The triangles around the vertices of folded edges cut out and the
+  // holes filled (triangulate_and_refine_hole).
+  void
+  cut_folds(Mesh &mesh, const std::vector<Mesh::Edge_index> &folded)
+  {
+    std::set<Face> cut;
+    for (auto e : folded)
+      for (auto v : {mesh.vertex(e, 0), mesh.vertex(e, 1)})
+        for (auto f : CGAL::faces_around_target(mesh.halfedge(v), mesh))
+          if (f != Mesh::null_face())
+            cut.insert(f);
+    for (Face f : cut)
+      CGAL::Euler::remove_face(mesh.halfedge(f), mesh);
+    mesh.collect_garbage();
+    fill_holes(mesh);
   }
 
   bool
@@ -519,6 +569,9 @@ namespace
     defects.push_back(inward);
     const Defect crossing = self_intersections(mesh);
     defects.push_back(crossing);
+    std::vector<Mesh::Edge_index> folded;
+    const Defect                  folds = folded_edges(mesh, folded);
+    defects.push_back(folds);
     report(defects, out);
     if (crossing.count > 0)
       {
@@ -537,6 +590,20 @@ namespace
             repairs.push_back("orientation reversed (inward once the "
                               "self-intersections were removed)");
           }
+      }
+    // (folds that intersect are gone with the self-intersections; the
+    // others are cut out now)
+    folded.clear();
+    folded_edges(mesh, folded);
+    if (!folded.empty())
+      {
+        cut_folds(mesh, folded);
+        std::vector<Mesh::Edge_index> left;
+        folded_edges(mesh, left);
+        repairs.push_back(left.empty() ?
+                            "folded edges cut out and their holes filled" :
+                            "folded edges: " + std::to_string(left.size()) +
+                              " left after cutting them out");
       }
     for (const std::string &r : repairs)
       out << "repair: " << r << "\n";

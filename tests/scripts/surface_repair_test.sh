@@ -3,7 +3,9 @@
 # tkr-surface (apps/surface.cc, issue 19): a scan-like export of TKR C's
 # insert (meshes/gen/scanlike.py: subdivided, 0.01 mm noise, 3 folded
 # vertices, 2 duplicated triangles, 1 triangle left out, orientation
-# reversed) is reported with each defect counted and located, repaired and
+# reversed; one fold in the dish does not intersect, it turns triangles
+# back on their neighbours) is reported with each defect counted and
+# located, repaired and
 # remeshed into a closed, outward surface without self-intersections whose
 # volume is that of the clean export within 1 %; an unreadable file, an
 # open sheet (it encloses no volume) and a file of degenerate triangles end
@@ -24,6 +26,8 @@ check "duplicates counted" has "defect: 2 duplicate triangles, at ("
 check "the hole's edges counted" has "defect: 3 open edges (used by one triangle), at ("
 check "inward orientation found" has "defect: 1 inward orientation"
 check "self-intersections counted and located" grep -qE "defect: [1-9][0-9]* pairs of intersecting triangles, at \(" "$work/scan.log"
+check "folds that do not intersect counted and located" grep -qE "defect: [1-9][0-9]* folded edges \(their two triangles turned back on each other, not intersecting\), at \(" "$work/scan.log"
+check "folds cut out" has "repair: folded edges cut out and their holes filled"
 check "hole filled, orientation reversed" bash -c "grep -q 'repair: 1 holes filled' '$work/scan.log' && grep -q 'repair: orientation reversed' '$work/scan.log'"
 check "result valid" has "result: closed, outward, no self-intersection"
 check "exit 0" has "exit 0"
