@@ -317,24 +317,51 @@ def build_layer(X, tris, face, ent, groups, layers, thickness, ratio, project):
     column = -np.ones(len(X) + layers * len(c_nodes), np.int64)
     column[c_nodes] = np.arange(len(c_nodes))
     column[len(X):] = np.repeat(np.arange(len(c_nodes)), layers)
+    # straight: columns whose layer nodes stay where their direction puts
+    # them instead of going onto their neighbouring face; projected onto a
+    # face that curves away, or onto the finer surface, they can move by
+    # more than a thinned layer's depth and fold prisms at any depth
+    straight = np.zeros(len(c_nodes), bool)
+    directions = np.array([direction[a] for a in c_nodes])
+    groups_of = {e: np.array([target[a] == e for a in c_nodes]) for e in set(target.values()) if e[0] > 0}
+    cols = column[prisms[:, :3]]
     for _ in range(12):
-        P = X[c_nodes][:, None, :] + (depth[:, None, None] * frac[None, 1:, None]
-                                     * np.array([direction[a] for a in c_nodes])[:, None, :])
-        for e in set(target.values()):
-            if e[0] > 0:
-                m = np.array([target[a] == e for a in c_nodes])
-                P[m] = project(e[0], e[1], P[m].reshape(-1, 3)).reshape(P[m].shape)
+        U = X[c_nodes][:, None, :] + depth[:, None, None] * frac[None, 1:, None] * directions[:, None, :]
+        P = U.copy()
+        for e, m in groups_of.items():
+            m = m & ~straight
+            if m.any():
+                P[m] = project(e[0], e[1], U[m].reshape(-1, 3)).reshape(P[m].shape)
         nodes = np.concatenate([X, P.reshape(-1, 3)])
-        q = prism_quality(nodes, prisms)
-        folded = q < 0.05
+        folded = ~(prism_quality(nodes, prisms) >= 0.05)     # NaN: a column of zero length
+        if np.any(folded):
+            unprojected = prism_quality(np.concatenate([X, U.reshape(-1, 3)]), prisms) >= 0.05
+            back = np.unique(cols[folded & unprojected])
+            back = back[~straight[back]]
+            if len(back):
+                straight[back] = True
+                P[back] = U[back]
+                nodes = np.concatenate([X, P.reshape(-1, 3)])
+                folded = ~(prism_quality(nodes, prisms) >= 0.05)
         if not np.any(folded):
             break
         depth[np.unique(column[prisms[folded]])] *= 0.7
+        # no column more than 1.4 times as deep as a neighbour: a thinned
+        # column next to full ones makes wedges that fold in turn
+        for _ in range(50):
+            lowest = np.full(len(depth), np.inf)
+            for i in range(3):
+                np.minimum.at(lowest, cols[:, i], depth[cols].min(axis=1))
+            capped = np.minimum(depth, 1.4 * lowest)
+            if np.array_equal(capped, depth):
+                break
+            depth = capped
     else:
         raise RuntimeError("%d prisms of the contact layer stay folded, e.g. at %s; try a smaller "
                            "--layer-thickness" % (int(folded.sum()), nodes[prisms[folded][0]].mean(axis=0)))
     body = LayeredBody()
     body.thinned = int(np.sum(depth < thickness))
+    body.off_face = int(straight.sum())
     body.straight_in = len(bad)
     body.nodes = nodes
     body.node_ent = np.concatenate([ent, np.repeat(np.array([target[a] for a in c_nodes]), layers, axis=0)])
@@ -369,7 +396,8 @@ def build_layer(X, tris, face, ent, groups, layers, thickness, ratio, project):
 
 def prism_quality(nodes, prisms):
     """Smallest scaled corner Jacobian of the three straight hexahedra of
-    every prism, positive when it is not folded."""
+    every prism, positive when it is not folded (NaN when a column has
+    zero length)."""
     X = nodes
     b, t = prisms[:, :3], prisms[:, 3:]
     q = np.full(len(prisms), np.inf)
@@ -380,7 +408,8 @@ def prism_quality(nodes, prisms):
                         X[t[:, v]], 0.5 * (X[t[:, v]] + X[t[:, nx]]), X[t].mean(axis=1),
                         0.5 * (X[t[:, v]] + X[t[:, pv]])], axis=1)
         n = len(prisms)
-        jac = blockmesh.corner_jacobians(pts.reshape(-1, 3), np.arange(8 * n).reshape(n, 8))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            jac = blockmesh.corner_jacobians(pts.reshape(-1, 3), np.arange(8 * n).reshape(n, 8))
         q = np.minimum(q, np.min(-jac, axis=1))
     return q
 
@@ -657,6 +686,8 @@ def mesh_body(vol, groups, size_field, size, layers, thickness, ratio, cad, note
     out = split_into_hexes(body, tets, groups, curve_edges, project)
     if body.thinned:
         notes.append("%d layer columns thinned (folds)" % body.thinned)
+    if body.off_face:
+        notes.append("%d layer columns left straight, off their neighbouring face (folds)" % body.off_face)
     if body.straight_in:
         notes.append("%d layer columns straight in at corners of several faces" % body.straight_in)
     if body.n_straight:

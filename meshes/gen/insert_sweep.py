@@ -89,14 +89,15 @@ def node_normals(faces, cad):
     return out
 
 
-def sort_faces(faces, groups, normals, flat_tol=1e-6, flat_normal=0.9999):
+def sort_faces(faces, groups, normals, flat_tol=1e-6, flat_normal=0.9999, rim=()):
     """Base, walls and top of an insert: the base is the tibia_inferior
     faces (flat, at one height, facing down), walls are vertical faces, the
     top all others, which must face up everywhere (a height field).
     normals: node_normals(); flat_tol (mm) and flat_normal (smallest -n_z):
     how flat the base must be (a scanned base is flattened to its mean
-    height within flat_tol).  Returns (base faces, base height, walls,
-    top).  Raises NotSweepable."""
+    height within flat_tol); rim: faces of a rounded rim (split_rim()),
+    counted with the base in plan.  Returns (base faces, base height,
+    walls, top).  Raises NotSweepable."""
     base = [s for s in faces if groups.get(s) == "tibia_inferior"]
     if not base:
         raise NotSweepable("the insert has no tibia_inferior face")
@@ -105,20 +106,23 @@ def sort_faces(faces, groups, normals, flat_tol=1e-6, flat_normal=0.9999):
     if np.ptp(z) > flat_tol or any(np.min(-normals[s][:, 2]) < flat_normal for s in base):
         raise NotSweepable("the base (faces %s) is not flat and horizontal (heights %.3g .. %.3g mm, "
                            "within %g)" % (base, z.min(), z.max(), flat_tol))
+    area = lambda P, n: 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1)
     walls, top = [], []
     for s in faces:
         n = normals[s]
-        if s in base:
+        if s in base or s in rim:
             continue
         if np.max(np.abs(n[:, 2])) < (1e-6 if n is not faces[s][1] else 0.15):   # STL: chords of curved walls tilt
             walls.append(s)
         elif np.min(n[:, 2]) > 0.02:
             top.append(s)
+        elif n is faces[s][1] and area(*faces[s]).sum() < 1.0:
+            walls.append(s)   # STL: a sliver that remeshing left in a corner (a post's foot)
         else:
             raise NotSweepable("face %d is neither vertical nor facing up everywhere "
                                "(normals n_z from %.2f to %.2f)" % (s, n[:, 2].min(), n[:, 2].max()))
-    area = lambda P, n: 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1)
-    base_area = sum(area(*faces[s]).sum() for s in base)
+    base_area = sum(area(*faces[s]).sum() for s in base) + sum(
+        (area(*faces[s]) * -faces[s][1][:, 2]).sum() for s in rim)
     plan_area = sum((area(*faces[s]) * faces[s][1][:, 2]).sum() for s in top)
     if abs(plan_area / base_area - 1) > 2e-3:
         raise NotSweepable("the top faces cover %.1f mm^2 in plan, the base %.1f mm^2 (overhangs?)"
@@ -142,6 +146,38 @@ def split_stl_faces(faces, groups, vertical=0.15):
         out[s + 1000000] = (P[v], n[v])
         grp[s + 1000000] = groups.get(s)
     return out, grp
+
+
+def split_rim(faces, groups, flat_tol, flat_normal):
+    """STL: the triangles near the base that are neither flat base, nor
+    vertical wall, nor facing up: a rim between base and walls rounded by
+    a scan or by the repair of a fold there.  They go into faces of their
+    own (new ids, face + 2000000, no group) which the sweep fills back to
+    the sharp rim: the columns stand on the flat base out to the outline of
+    base and rim together.  Only triangles lower than three quarters of the
+    lowest height of the top above the base count.  Returns (faces, groups, rim
+    face ids)."""
+    base = [s for s in faces if groups.get(s) == "tibia_inferior"]
+    top_up = [faces[s][0][faces[s][1][:, 2] > 0.3] for s in faces]
+    top_up = np.concatenate([t for t in top_up if len(t)]) if any(len(t) for t in top_up) else None
+    if not base or top_up is None:
+        return faces, groups, []
+    z_min = min(float(faces[s][0][..., 2].min()) for s in base)
+    reach = z_min + 0.75 * (float(top_up[..., 2].min()) - z_min)
+    out, grp, rim = {}, dict(groups), []
+    for s, (P, n) in faces.items():
+        flat = (np.abs(P[..., 2] - z_min).max(axis=1) <= flat_tol) & (-n[:, 2] >= flat_normal)
+        m = (P[..., 2].max(axis=1) < reach) & (n[:, 2] < 0.3) & (np.abs(n[:, 2]) >= 0.15) & ~flat
+        if not np.any(m) or np.all(m) and groups.get(s) != "tibia_inferior":
+            out[s] = (P, n)
+            if np.all(m):
+                rim.append(s)
+            continue
+        out[s] = (P[~m], n[~m])
+        out[s + 2000000] = (P[m], n[m])
+        grp[s + 2000000] = None
+        rim.append(s + 2000000)
+    return out, grp, rim
 
 
 # ------------------------------------------------------------------ top
@@ -409,14 +445,22 @@ def mesh_insert(vol, groups, h, cells, top_cell, cad, fine=None, smooth=None):
     STL repaired by tkr-surface), then put onto smooth(points) (a smooth
     surface through the input's vertices).  Raises NotSweepable."""
     faces = boundary_triangles(vol)
+    flat = (1e-6, 0.9999) if cad else (0.1, 0.98)   # STL: a scanned base within 0.1 mm
+    rim = []
     if not cad:
         faces, groups = split_stl_faces(faces, groups)
-    flat = (1e-6, 0.9999) if cad else (0.1, 0.98)   # STL: a scanned base within 0.1 mm
-    base, z0, walls, top = sort_faces(faces, groups, node_normals(faces, cad), *flat)
+        faces, groups, rim = split_rim(faces, groups, *flat)
+        if rim:
+            P = np.concatenate([faces[s][0] for s in rim])
+            print("note: %d triangles (%.1f mm2) of a rounded rim between the insert's base and walls "
+                  "(up to z = %.1f mm) are filled back to a sharp rim by the sweep"
+                  % (len(P), 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1).sum(),
+                     P[..., 2].max()))
+    base, z0, walls, top = sort_faces(faces, groups, node_normals(faces, cad), *flat, rim=rim)
     P = np.concatenate([faces[s][0] for s in base])
     w = 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1)
     c = (w[:, None] * P.mean(axis=1)[:, :2]).sum(axis=0) / w.sum()
-    segs = outline_segments(base) if cad else boundary_edges_2d(P)
+    segs = outline_segments(base) if cad else boundary_edges_2d(np.concatenate([P] + [faces[s][0] for s in rim]))
     tol = 1e-3 if cad else 0.5   # STL: chordal error of the walls
     inner = [s for s in walls if plan_distance(faces[s][0][..., :2].reshape(-1, 2), segs).max() > tol]
     feature = raised_feature(faces, inner, tol) if inner else None
@@ -438,7 +482,7 @@ def mesh_insert(vol, groups, h, cells, top_cell, cad, fine=None, smooth=None):
         i0, i1 = (int(np.argmin(np.abs(rect[:, 0, 0] - v))) for v in (x0, x1))
         j0, j1 = (int(np.argmin(np.abs(rect[0, :, 1] - v))) for v in (y0, y1))
         F = rect[i0:i1 + 1, j0:j1 + 1]
-        eps = 10 * tol
+        eps = 10 * tol if cad else 2 * tol   # STL: off the chords of the walls, not 5 mm into a chamfer
         ix = np.zeros(F.shape[:2])
         ix[0, :], ix[-1, :] = -1, 1
         iy = np.zeros(F.shape[:2])

@@ -34,10 +34,14 @@ flexes -5..60 deg about its estimated axis, tibia_contact = the insert's
 upward triangles near it, tibia_inferior/femur_fixation by the normal rules
 below), or from --femur-contact-stl/--insert-contact-stl patches; the
 surface is remeshed again (--contact-size on the contact triangles, --size/2
-elsewhere), split into smooth patches at --patch-angle, each patch given the
-group most of it has (contact if a quarter of its area is), and the
-articular nodes put on a moving-least-squares surface through the input's
-vertices (--smooth-radius).  --surface as-is: the STL goes straight to gmsh
+elsewhere; for the femur, and the insert with --method layer, smaller, down
+to 0.56 --contact-size, while the result strays from the repaired surface by
+more than half --layer-thickness or folds),
+split into smooth patches at --patch-angle, each patch given the group most
+of it has (contact if a quarter of its area is; a patch whose rules disagree,
+such as base and walls joined by a rounded rim, keeps its triangles'
+groups), and the articular nodes put on a moving-least-squares surface
+through the input's vertices (--smooth-radius).  --surface as-is: the STL goes straight to gmsh
 as below.
 
 The hexahedra are about half the requested tetrahedron/triangle sizes.
@@ -282,23 +286,61 @@ def prepare_surfaces(args, tmpdir, log):
         contact = os.path.join(tmpdir, "%s-contact.stl" % role)
         write_stl_binary(contact, tris[role][labels[role] == surface_tags.CONTACT])
         final[role] = os.path.join(tmpdir, "%s-final.stl" % role)
-        run_surface_tool(role, [clean[role], final[role], "--size", str(max(args.contact_size, 0.5 * args.size)),
-                                      "--contact-size", str(args.contact_size), "--near", contact,
-                                      "--near-distance", str(0.5 * args.surface_size),
-                                      "--feature-angle", str(args.feature_angle),
-                                      "--wrap-alpha", str(0.5 * args.surface_size)],
-                         {clean[role]: "the repaired surface", contact: "its contact triangles"}, log)
-        T = read_stl(final[role])
+        # the remeshed surface of a body that gets a contact layer (the
+        # femur; the insert with --method layer) must follow the repaired
+        # one: within half the layer's depth (a feature it loses, such as a
+        # cam 1.5 mm under the condyles' surface, is crossed by the layer)
+        # and without triangles turned against it (folds); else again with
+        # smaller triangles (elsewhere down to --contact-size, then both by
+        # 0.75).  A swept insert takes its heights from the repaired surface.
+        sizes = [(max(args.contact_size, 0.5 * args.size), args.contact_size)]
+        layered = role == "femur" or args.method == "layer"
+        if layered and sizes[0][0] > args.contact_size:
+            sizes.append((args.contact_size, args.contact_size))
+        if layered:
+            sizes += [(0.75 * sizes[-1][0], 0.75 * sizes[-1][1]), (0.5625 * sizes[-1][0], 0.5625 * sizes[-1][1])]
+        for attempt, (size, csize) in enumerate(sizes):
+            run_surface_tool(role, [clean[role], final[role], "--size", "%g" % size,
+                                    "--contact-size", "%g" % csize, "--near", contact,
+                                    "--near-distance", str(0.5 * args.surface_size),
+                                    "--feature-angle", str(args.feature_angle),
+                                    "--wrap-alpha", str(0.5 * args.surface_size)],
+                             {clean[role]: "the repaired surface", contact: "its contact triangles"}, log)
+            T = read_stl(final[role])
+            fault = surface_tags.unfaithful(T, tris[role], 0.5 * args.layer_thickness) if layered else None
+            if fault is None:
+                break
+            line = "surface %s: the remeshed surface %s" % (role, fault)
+            if attempt + 1 < len(sizes):
+                line += "; remeshing with edges of %g mm (%g mm on the contact triangles)" % sizes[attempt + 1]
+            print(line)
+            log.append(line)
+        else:
+            raise SystemExit("error: the surface of the %s cannot be remeshed faithfully down to %g mm triangles "
+                             "(%s); try a smaller --contact-size and --size, or a cleaner input"
+                             % (role, sizes[-1][1], fault))
         _, nearest = cKDTree(tris[role].mean(axis=1)).query(T.mean(axis=1))
         a = 0.5 * np.linalg.norm(np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]), axis=1)
         patch = surface_tags.patches(T, args.patch_angle, 2.0 * args.contact_size ** 2)
         uniform = surface_tags.by_patch(labels[role][nearest], patch, a)
+        patch = surface_tags.split_mixed(T, patch, uniform)
         # the articular triangles' corners onto the smooth surface through
         # the given vertices (SmoothSurface)
         pts, inv = np.unique(np.round(T.reshape(-1, 3), 9), axis=0, return_inverse=True)
         inv = inv.reshape(-1, 3)
         on = np.unique(inv[uniform == surface_tags.CONTACT])
         pts[on] = smooth[role].project(pts[on])
+        if smooth[role].too_far > 0.2 * len(on):
+            # the input's facets cut the articular curvature by more than
+            # the smooth surface may correct (a coarse chordal export: 34 %
+            # and 47 % of TKR C's; a few rim nodes elsewhere, 6 % at most)
+            line = ("warning: %d of the %d articular nodes of the %s lie more than %g mm off the smooth "
+                    "surface through the input's vertices and stay on its facets: the input is too coarse "
+                    "for contact pressures (expect them off by tens of per cent); export the STL with a "
+                    "finer chordal tolerance (a few micrometres)"
+                    % (smooth[role].too_far, len(on), role, smooth[role].max_move))
+            print(line)
+            log.append(line)
         T = pts[inv]
         # each triangle of the repaired surface belongs to the patch of the
         # remeshed triangle most parallel to it among the 8 nearest (the

@@ -2,11 +2,13 @@
 """Scan-like STL test inputs for mesh-implant (issue 19): an implant body's
 clean STL export turned into what users bring.
 
-    scanlike.py IN.stl OUT.stl [--seed S] [--subdivide K] [--noise MM]
+    scanlike.py IN.stl|IN.step OUT.stl [--seed S] [--subdivide K] [--noise MM]
                 [--folds N] [--duplicates N] [--holes N] [--flip]
                 [--units mm|m] [--rotation R11,...,R33]
 
-In this order: each triangle split into four K times (a fine, scanner-like
+A STEP input is first triangulated with edges of at most 1.5 mm (the
+options of the STL exports of TKR A and B: a scanner sees the shape, not an
+exporter's facets).  In this order: each triangle split into four K times (a fine, scanner-like
 triangulation of the export's long CAD triangles); every vertex moved by
 Gaussian noise of standard deviation MM along random directions (a scan's
 measurement noise); N vertices (seeded, among vertices with at least five
@@ -60,6 +62,31 @@ def fold(pts, tri, count, rng):
     return moved
 
 
+def triangulate_step(path, size=1.5):
+    """The surface of a STEP file as triangles of at most `size` mm, 12 per
+    full turn on curved faces (what a scanner sees of the shape: the
+    options of tkr.export_cad's STL exports of TKR A and B)."""
+    import gmsh
+    gmsh.initialize(["gmsh", "-v", "0"])
+    try:
+        gmsh.model.occ.importShapes(path)
+        gmsh.model.occ.synchronize()
+        gmsh.option.setNumber("Mesh.MeshSizeMax", size)
+        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 12)
+        gmsh.model.mesh.generate(2)
+        tags, coords, _ = gmsh.model.mesh.getNodes()
+        X = np.zeros((int(tags.max()) + 1, 3))
+        X[tags.astype(np.int64)] = coords.reshape(-1, 3)
+        tris = []
+        for _, s in gmsh.model.getEntities(2):
+            for et, _, nt in zip(*gmsh.model.mesh.getElements(2, s)):
+                if et == 2:
+                    tris.append(np.array(nt, np.int64).reshape(-1, 3))
+        return X[np.concatenate(tris)]
+    finally:
+        gmsh.finalize()
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("input")
@@ -75,7 +102,8 @@ def main(argv=None):
     ap.add_argument("--rotation", type=parse_rotation)
     a = ap.parse_args(argv)
     rng = np.random.default_rng(a.seed)
-    pts, tri = indexed(read_stl(a.input))
+    pts, tri = indexed(read_stl(a.input) if not a.input.lower().endswith((".step", ".stp"))
+                       else triangulate_step(a.input))
     for _ in range(a.subdivide):
         pts, tri = subdivide(pts, tri)
     pts = pts + a.noise * rng.standard_normal(pts.shape)

@@ -142,8 +142,12 @@ def patches(tris, angle, min_area):
     """Smooth patches: connected components of the triangles across edges
     whose dihedral angle is below `angle` (deg); a patch smaller than
     min_area (mm2; the strips that remeshing leaves along sharp rims) joins
-    the neighbour it shares most edges with.  Returns the patch index of
-    each triangle (0, 1, ...)."""
+    the neighbour whose mean normal is closest to its own, if they differ
+    by less than 60 degrees (a strip on a rim between two faces at 90
+    degrees); a small face at a sharp edge all round (the end of TKR C's cam
+    where it stands out of the femur's bone side) stays a patch of its own:
+    joined to a contact patch, it would fold that patch's layer.  Returns
+    the patch index of each triangle (0, 1, ...)."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
     _, T, _, a, b = shared_edges(tris)
@@ -152,32 +156,82 @@ def patches(tris, angle, min_area):
     graph = coo_matrix((np.ones(smooth.sum()), (a[smooth], b[smooth])), shape=(len(T), len(T)))
     patch = connected_components(graph, directed=False)[1]
     area = 0.5 * np.linalg.norm(np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]), axis=1)
+    alone = set()
     while True:
         sizes = np.bincount(patch, weights=area)
-        small = [k for k in np.argsort(sizes) if 0 < sizes[k] < min_area]
+        small = [k for k in np.argsort(sizes) if 0 < sizes[k] < min_area and k not in alone]
         if not small:
             break
         k = small[0]
         pa, pb = patch[a], patch[b]
-        border = np.concatenate([pb[pa == k], pa[pb == k]])
+        border = np.unique(np.concatenate([pb[pa == k], pa[pb == k]]))
         border = border[border != k]
-        if not len(border):
-            break
-        patch[patch == k] = np.bincount(border).argmax()
+        mean = [(area[patch == j, None] * n[patch == j]).sum(axis=0) for j in np.append(border, k)]
+        mean = [v / max(np.linalg.norm(v), 1e-300) for v in mean]
+        cos = np.array([np.dot(v, mean[-1]) for v in mean[:-1]])
+        if not len(border) or cos.max() < 0.5:
+            alone.add(k)
+            continue
+        patch[patch == k] = border[cos.argmax()]
     return np.unique(patch, return_inverse=True)[1]
 
 
-def by_patch(labels, patch, area, contact_fraction=0.25):
+def unfaithful(T, ref, tolerance):
+    """None if the triangles T follow the reference surface ref (both T x 3
+    x 3): every vertex of ref within `tolerance` of T, and no triangle of T
+    facing away (normal more than 90 degrees) from all of the 8 reference
+    triangles nearest its centre (a fold); else what is wrong, and where,
+    in words."""
+    from scipy.spatial import cKDTree
+    import contact_layer
+    P = np.unique(np.round(ref.reshape(-1, 3), 9), axis=0)
+    Q = contact_layer.surface_projector({0: T})(2, 0, P)
+    d = np.linalg.norm(P - Q, axis=1)
+    if d.max() > tolerance:
+        return ("strays %.2f mm from the repaired surface at (%.1f, %.1f, %.1f) (more than %g mm)"
+                % ((d.max(),) + tuple(P[np.argmax(d)]) + (tolerance,)))
+    c, n = normals(T)
+    rc, rn = normals(ref)
+    _, i = cKDTree(rc).query(c, k=8)
+    turned = np.einsum("ij,ikj->ik", n, rn[i]).max(axis=1) < 0
+    if turned.any():
+        return ("has %d triangles turned against the repaired surface, e.g. at (%.1f, %.1f, %.1f)"
+                % ((turned.sum(),) + tuple(c[np.argmax(turned)])))
+    return None
+
+
+def by_patch(labels, patch, area, contact_fraction=0.25, mixed=0.8):
     """Labels made uniform on each patch: CONTACT where at least
     contact_fraction of the patch's area is CONTACT, else the label with the
-    largest area."""
+    largest area, unless that has less than `mixed` of the area: then the
+    patch joins faces that its rules tell apart (an insert's base and side
+    walls joined by a rim rounded in the repair of a fold) and each triangle
+    keeps its own label (CONTACT ones the largest other label); split_mixed()
+    then makes patches of them."""
     out = np.empty_like(labels)
     for k in np.unique(patch):
         m = patch == k
         a = np.array([area[m & (labels == c)].sum() for c in (UNTAGGED, CONTACT, OTHER)])
-        out[m] = CONTACT if a[CONTACT] >= contact_fraction * a.sum() else (UNTAGGED, CONTACT, OTHER)[
-            int(np.argmax(np.where(np.arange(3) == CONTACT, -1.0, a)))]
+        if a[CONTACT] >= contact_fraction * a.sum():
+            out[m] = CONTACT
+            continue
+        best = (UNTAGGED, OTHER)[int(a[OTHER] > a[UNTAGGED])]
+        if a[best] >= mixed * a.sum():
+            out[m] = best
+        else:
+            out[m] = np.where(labels[m] == CONTACT, best, labels[m])
     return out
+
+
+def split_mixed(tris, patch, labels):
+    """Patches made of one label each: the connected components of the
+    triangles across edges whose two triangles share patch and label."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    _, T, _, a, b = shared_edges(tris)
+    same = (patch[a] == patch[b]) & (labels[a] == labels[b])
+    graph = coo_matrix((np.ones(same.sum()), (a[same], b[same])), shape=(len(T), len(T)))
+    return connected_components(graph, directed=False)[1]
 
 
 def tag_pair(fem_tris, ins_tris, distance, femur_patch=None, insert_patch=None, patch_tol=0.5):
@@ -213,6 +267,7 @@ class SmoothSurface:
 
     def __init__(self, tris, radius, max_move=0.15):
         self.max_move = max_move
+        self.too_far = 0     # points that stayed because their move exceeded max_move
         pts, inv = np.unique(np.round(tris.reshape(-1, 3), 9), axis=0, return_inverse=True)
         n = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
         N = np.zeros_like(pts)
@@ -244,4 +299,6 @@ class SmoothSurface:
             coef, *_ = np.linalg.lstsq(A, w * wt, rcond=None)
             if abs(coef[0]) <= self.max_move:
                 out[i] = x + coef[0] * n0
+            else:
+                self.too_far += 1
         return out

@@ -21,3 +21,19 @@ check() {
     failed=1
   fi
 }
+
+# static_2000n WEAR MESH PEAK AREA WHAT: the static contact under 2000 N of
+# prm/static-2000n.prm on MESH (in the current folder, output in static/);
+# checks that it converged and that its peak pressure (MPa) and contact area
+# (mm^2) are within 20 % of PEAK and AREA, those of WHAT.
+static_2000n() {
+  printf 'include %s\nsubsection Mesh\n  set File = %s\nend\nsubsection Output\n  set Directory = static\nend\n' \
+    "$root/prm/static-2000n.prm" "$2" > static.prm
+  "$1" static.prm > static.log 2>&1 || tail -20 static.log
+  grep -i "converged\|contact area\|max pressure" static.log
+  value() { sed -n "s/^ *$1: *\([0-9.]*\).*/\1/p" static.log; }
+  within() { $py -c "import sys; a, b = float(sys.argv[1]), float(sys.argv[2]); print(a, b, a / b - 1); sys.exit(abs(a / b - 1) > 0.2)" "$@"; }
+  check "contact converged" grep -q "Contact converged" static.log
+  check "peak pressure within 20 % of $5" within "$(value 'max pressure')" "$3"
+  check "contact area within 20 % of $5" within "$(value 'contact area')" "$4"
+}
