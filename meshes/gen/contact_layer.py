@@ -325,6 +325,10 @@ def build_layer(X, tris, face, ent, groups, layers, thickness, ratio, project):
     directions = np.array([direction[a] for a in c_nodes])
     groups_of = {e: np.array([target[a] == e for a in c_nodes]) for e in set(target.values()) if e[0] > 0}
     cols = column[prisms[:, :3]]
+
+    def folded_with(P):
+        # NaN quality (a column of zero length) counts as folded
+        return ~(prism_quality(np.concatenate([X, P.reshape(-1, 3)]), prisms) >= 0.05)
     for _ in range(12):
         U = X[c_nodes][:, None, :] + depth[:, None, None] * frac[None, 1:, None] * directions[:, None, :]
         P = U.copy()
@@ -332,17 +336,15 @@ def build_layer(X, tris, face, ent, groups, layers, thickness, ratio, project):
             m = m & ~straight
             if m.any():
                 P[m] = project(e[0], e[1], U[m].reshape(-1, 3)).reshape(P[m].shape)
-        nodes = np.concatenate([X, P.reshape(-1, 3)])
-        folded = ~(prism_quality(nodes, prisms) >= 0.05)     # NaN: a column of zero length
+        folded = folded_with(P)
         if np.any(folded):
-            unprojected = prism_quality(np.concatenate([X, U.reshape(-1, 3)]), prisms) >= 0.05
-            back = np.unique(cols[folded & unprojected])
+            back = np.unique(cols[folded & ~folded_with(U)])
             back = back[~straight[back]]
             if len(back):
                 straight[back] = True
                 P[back] = U[back]
-                nodes = np.concatenate([X, P.reshape(-1, 3)])
-                folded = ~(prism_quality(nodes, prisms) >= 0.05)
+                folded = folded_with(P)
+        nodes = np.concatenate([X, P.reshape(-1, 3)])
         if not np.any(folded):
             break
         depth[np.unique(column[prisms[folded]])] *= 0.7

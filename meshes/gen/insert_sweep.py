@@ -89,6 +89,11 @@ def node_normals(faces, cad):
     return out
 
 
+def triangle_areas(P):
+    """Areas of triangles P (T x 3 x 3)."""
+    return 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1)
+
+
 def sort_faces(faces, groups, normals, flat_tol=1e-6, flat_normal=0.9999, rim=()):
     """Base, walls and top of an insert: the base is the tibia_inferior
     faces (flat, at one height, facing down), walls are vertical faces, the
@@ -106,7 +111,7 @@ def sort_faces(faces, groups, normals, flat_tol=1e-6, flat_normal=0.9999, rim=()
     if np.ptp(z) > flat_tol or any(np.min(-normals[s][:, 2]) < flat_normal for s in base):
         raise NotSweepable("the base (faces %s) is not flat and horizontal (heights %.3g .. %.3g mm, "
                            "within %g)" % (base, z.min(), z.max(), flat_tol))
-    area = lambda P, n: 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1)
+    area = lambda P, n: triangle_areas(P)
     walls, top = [], []
     for s in faces:
         n = normals[s]
@@ -158,20 +163,20 @@ def split_rim(faces, groups, flat_tol, flat_normal):
     lowest height of the top above the base count.  Returns (faces, groups, rim
     face ids)."""
     base = [s for s in faces if groups.get(s) == "tibia_inferior"]
-    top_up = [faces[s][0][faces[s][1][:, 2] > 0.3] for s in faces]
-    top_up = np.concatenate([t for t in top_up if len(t)]) if any(len(t) for t in top_up) else None
-    if not base or top_up is None:
+    up = [P[n[:, 2] > 0.3][..., 2].min() for P, n in faces.values() if np.any(n[:, 2] > 0.3)]
+    if not base or not up:
         return faces, groups, []
     z_min = min(float(faces[s][0][..., 2].min()) for s in base)
-    reach = z_min + 0.75 * (float(top_up[..., 2].min()) - z_min)
+    reach = z_min + 0.75 * (float(min(up)) - z_min)
     out, grp, rim = {}, dict(groups), []
     for s, (P, n) in faces.items():
         flat = (np.abs(P[..., 2] - z_min).max(axis=1) <= flat_tol) & (-n[:, 2] >= flat_normal)
         m = (P[..., 2].max(axis=1) < reach) & (n[:, 2] < 0.3) & (np.abs(n[:, 2]) >= 0.15) & ~flat
-        if not np.any(m) or np.all(m) and groups.get(s) != "tibia_inferior":
-            out[s] = (P, n)
-            if np.all(m):
-                rim.append(s)
+        out[s] = (P, n)
+        if not np.any(m):
+            continue
+        if np.all(m) and groups.get(s) != "tibia_inferior":
+            rim.append(s)      # the whole face is rim
             continue
         out[s] = (P[~m], n[~m])
         out[s + 2000000] = (P[m], n[m])
@@ -454,11 +459,10 @@ def mesh_insert(vol, groups, h, cells, top_cell, cad, fine=None, smooth=None):
             P = np.concatenate([faces[s][0] for s in rim])
             print("note: %d triangles (%.1f mm2) of a rounded rim between the insert's base and walls "
                   "(up to z = %.1f mm) are filled back to a sharp rim by the sweep"
-                  % (len(P), 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1).sum(),
-                     P[..., 2].max()))
+                  % (len(P), triangle_areas(P).sum(), P[..., 2].max()))
     base, z0, walls, top = sort_faces(faces, groups, node_normals(faces, cad), *flat, rim=rim)
     P = np.concatenate([faces[s][0] for s in base])
-    w = 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1)
+    w = triangle_areas(P)
     c = (w[:, None] * P.mean(axis=1)[:, :2]).sum(axis=0) / w.sum()
     segs = outline_segments(base) if cad else boundary_edges_2d(np.concatenate([P] + [faces[s][0] for s in rim]))
     tol = 1e-3 if cad else 0.5   # STL: chordal error of the walls

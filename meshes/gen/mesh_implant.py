@@ -293,12 +293,12 @@ def prepare_surfaces(args, tmpdir, log):
         # and without triangles turned against it (folds); else again with
         # smaller triangles (elsewhere down to --contact-size, then both by
         # 0.75).  A swept insert takes its heights from the repaired surface.
-        sizes = [(max(args.contact_size, 0.5 * args.size), args.contact_size)]
         layered = role == "femur" or args.method == "layer"
-        if layered and sizes[0][0] > args.contact_size:
-            sizes.append((args.contact_size, args.contact_size))
+        sizes = [(max(args.contact_size, 0.5 * args.size), args.contact_size)]
         if layered:
-            sizes += [(0.75 * sizes[-1][0], 0.75 * sizes[-1][1]), (0.5625 * sizes[-1][0], 0.5625 * sizes[-1][1])]
+            if sizes[0][0] > args.contact_size:
+                sizes.append((args.contact_size, args.contact_size))
+            sizes += [(f * sizes[-1][0], f * sizes[-1][1]) for f in (0.75, 0.5625)]
         for attempt, (size, csize) in enumerate(sizes):
             run_surface_tool(role, [clean[role], final[role], "--size", "%g" % size,
                                     "--contact-size", "%g" % csize, "--near", contact,
@@ -329,8 +329,10 @@ def prepare_surfaces(args, tmpdir, log):
         pts, inv = np.unique(np.round(T.reshape(-1, 3), 9), axis=0, return_inverse=True)
         inv = inv.reshape(-1, 3)
         on = np.unique(inv[uniform == surface_tags.CONTACT])
+        skipped = smooth[role].too_far
         pts[on] = smooth[role].project(pts[on])
-        if smooth[role].too_far > 0.2 * len(on):
+        skipped = smooth[role].too_far - skipped
+        if skipped > 0.2 * len(on):
             # the input's facets cut the articular curvature by more than
             # the smooth surface may correct (a coarse chordal export: 34 %
             # and 47 % of TKR C's; a few rim nodes elsewhere, 6 % at most)
@@ -338,7 +340,7 @@ def prepare_surfaces(args, tmpdir, log):
                     "surface through the input's vertices and stay on its facets: the input is too coarse "
                     "for contact pressures (expect them off by tens of per cent); export the STL with a "
                     "finer chordal tolerance (a few micrometres)"
-                    % (smooth[role].too_far, len(on), role, smooth[role].max_move))
+                    % (skipped, len(on), role, smooth[role].max_move))
             print(line)
             log.append(line)
         T = pts[inv]
