@@ -28,8 +28,11 @@ namespace TKR::Contact
         {
           ++statistics.n_active;
           statistics.contact_area += nodes[j].D;
-          statistics.contact_force -=
-            state.pressure[j] * nodes[j].D * nodes[j].normal;
+          const Tensor<1, 3> force =
+            -state.pressure[j] * nodes[j].D * nodes[j].normal;
+          statistics.contact_force += force;
+          statistics.contact_moment +=
+            cross_product_3d(nodes[j].master_point, force);
           statistics.max_pressure =
             std::max(statistics.max_pressure, state.pressure[j]);
         }

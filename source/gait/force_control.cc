@@ -15,13 +15,6 @@ namespace TKR::Gait
 
   namespace
   {
-    /** The names of the inferior motion's observations. */
-    const std::array<std::string, 4> motion_names = {
-      {"inferior_mean_displacement_x",
-       "inferior_mean_displacement_y",
-       "inferior_mean_displacement_z",
-       "inferior_rotation_z_deg"}};
-
     /** The waveform's channels. */
     const std::vector<std::string> channels = {"flexion_deg",
                                                "axial_force_N",
@@ -75,20 +68,13 @@ namespace TKR::Gait
   std::vector<std::pair<std::string, Elasticity::BoundaryLoads>>
   ForceControl::observations() const
   {
-    const auto functionals = tibia_pose.motion_functionals();
-    std::vector<std::pair<std::string, Elasticity::BoundaryLoads>> named;
-    for (unsigned int i = 0; i < functionals.size(); ++i)
-      named.emplace_back(motion_names[i], functionals[i]);
-    return named;
+    return tibia_pose.motion_observations();
   }
 
   StepInput
   ForceControl::input(const double percent) const
   {
-    StepInput input;
-    input.percent = percent - 100. * std::floor(percent / 100.);
-    input.values  = table.at(percent);
-    return input;
+    return waveform_input(table, percent);
   }
 
   GaitState
@@ -133,11 +119,7 @@ namespace TKR::Gait
   InferiorMotion
   ForceControl::inferior_motion(const Observations &observations)
   {
-    InferiorMotion motion;
-    for (unsigned int d = 0; d < 3; ++d)
-      motion.mean[d] = observations[motion_names[d]];
-    motion.rotation_z = observations[motion_names[3]];
-    return motion;
+    return TibiaPose::inferior_motion(observations);
   }
 
   Pose
@@ -196,11 +178,8 @@ namespace TKR::Gait
   double
   ForceControl::load_balance(const StepReport &report) const
   {
-    const double axial = gait_state(report.input).axial_force;
-    const double bound =
-      parameters.axial_stabilisation_spring * parameters.pose_tolerance +
-      1e-6 * std::abs(axial);
-    return std::abs(report.contact_resultant[2] + axial) / bound;
+    return tibia_pose.axial_balance(gait_state(report.input).axial_force,
+                                    report.contact_resultant);
   }
 
   std::vector<std::string>

@@ -2,10 +2,12 @@
 // This file is part of tkr-wear.
 
 #include <tkr/base/exceptions.h>
+#include <tkr/gait/displacement_control.h>
 #include <tkr/gait/force_control.h>
 #include <tkr/gait/protocol.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace TKR::Gait
 {
@@ -28,6 +30,15 @@ namespace TKR::Gait
     return values[it - names.begin()];
   }
 
+  StepInput
+  waveform_input(const Waveform &waveform, const double percent)
+  {
+    StepInput input;
+    input.percent = percent - 100. * std::floor(percent / 100.);
+    input.values  = waveform.at(percent);
+    return input;
+  }
+
   std::unique_ptr<Protocol>
   create_protocol(const Parameters::Gait &parameters,
                   const Triangulation<3> &triangulation)
@@ -38,6 +49,10 @@ namespace TKR::Gait
           return std::make_unique<ForceControl>(parameters,
                                                 measure_inferior_surface(
                                                   triangulation));
+        case Parameters::GaitControl::displacement:
+          return std::make_unique<DisplacementControl>(parameters,
+                                                       measure_inferior_surface(
+                                                         triangulation));
       }
     AssertThrow(false, ExcNotImplemented());
     return nullptr;

@@ -32,9 +32,13 @@ namespace TKR::Gait
   // its own position (d_z is not assumed zero: real inserts' backs are not
   // exactly planar). Only the flatness is checked: the distances of the
   // nodes from the least-squares plane z = a + b x + c y.
+  // Holding the AP translation and the IE rotation (hold_ap_ie) adds
+  // u_Ay = 0 and theta_z = 0, i.e. u_Bx = u_Ax + theta_y dz_B; every other
+  // node's lines refer to these DoFs, close() resolves the chains.
   unsigned int
   TibiaPose::add_tray_constraints(const DoFHandler<3>       &dof_handler,
-                                  AffineConstraints<double> &constraints) const
+                                  AffineConstraints<double> &constraints,
+                                  const bool                 hold_ap_ie) const
   {
     std::map<unsigned int, std::array<types::global_dof_index, 3>> nodes;
     for (const auto &cell : dof_handler.active_cell_iterators())
@@ -109,6 +113,14 @@ namespace TKR::Gait
             add(dofs[2], uA[2], 1. - theta_y(d[0]));
             add(dofs[2], uC[2], theta_y(d[0]));
           }
+      }
+    if (hold_ap_ie)
+      {
+        constraints.add_line(uA[1]);
+        constraints.add_line(uB[0]);
+        add(uB[0], uA[0], 1.);
+        add(uB[0], uA[2], dB[2] / dC[0]);
+        add(uB[0], uC[2], -dB[2] / dC[0]);
       }
     return nodes.size();
   }
@@ -273,6 +285,46 @@ namespace TKR::Gait
                (180. / numbers::PI);
       };
     return functionals;
+  }
+
+  namespace
+  {
+    /** The names of the inferior motion's observations. */
+    const std::array<std::string, 4> motion_names = {
+      {"inferior_mean_displacement_x",
+       "inferior_mean_displacement_y",
+       "inferior_mean_displacement_z",
+       "inferior_rotation_z_deg"}};
+  } // namespace
+
+  std::vector<std::pair<std::string, Elasticity::BoundaryLoads>>
+  TibiaPose::motion_observations() const
+  {
+    const auto functionals = motion_functionals();
+    std::vector<std::pair<std::string, Elasticity::BoundaryLoads>> named;
+    for (unsigned int i = 0; i < functionals.size(); ++i)
+      named.emplace_back(motion_names[i], functionals[i]);
+    return named;
+  }
+
+  double
+  TibiaPose::axial_balance(const double        axial_force,
+                           const Tensor<1, 3> &contact_resultant) const
+  {
+    const double bound =
+      parameters.axial_stabilisation_spring * parameters.pose_tolerance +
+      1e-6 * std::abs(axial_force);
+    return std::abs(contact_resultant[2] + axial_force) / bound;
+  }
+
+  InferiorMotion
+  TibiaPose::inferior_motion(const Observations &observations)
+  {
+    InferiorMotion motion;
+    for (unsigned int d = 0; d < 3; ++d)
+      motion.mean[d] = observations[motion_names[d]];
+    motion.rotation_z = observations[motion_names[3]];
+    return motion;
   }
 
   // The pose iteration solves r = 0 for the residual

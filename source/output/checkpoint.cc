@@ -133,7 +133,9 @@ namespace TKR::Output
     {
       static const std::map<std::string, std::string> added = {
         {"Wear/Cross-shear table (checksum)", ""},
-        {"Wear/Run-in file (checksum)", ""}};
+        {"Wear/Run-in file (checksum)", ""},
+        {"Gait/AP displacement sign", "1"},
+        {"Gait/IE rotation sign", "1"}};
       return added;
     }
 

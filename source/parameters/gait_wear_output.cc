@@ -23,19 +23,26 @@ namespace TKR::Parameters
       prm.declare_entry(
         "Control",
         "force",
-        Patterns::Selection("force"),
+        Patterns::Selection("force|displacement"),
         "The gait protocol, how the simulator drives the knee: force = ISO "
         "14243-1 force control (flexion prescribed; axial force, AP force "
         "and IE torque applied to the tibia, held by the AP and IE "
-        "restraints; the tibia's pose solved in every step). The waveform "
-        "file must have the protocol's columns (doc/gait.md).");
+        "restraints; the tibia's pose solved in every step). displacement "
+        "= ISO 14243-3 displacement control (flexion, the tibial tray's AP "
+        "displacement and IE rotation prescribed, the axial force applied; "
+        "the tray's axial and medial-lateral position solved, no restraint "
+        "springs; the AP force and IE torque that hold the tray reported "
+        "per step; needs Tibial tray = rigid). The waveform file must have "
+        "the protocol's columns (doc/gait.md).");
       prm.declare_entry(
         "Waveform file",
         "data/iso14243-1.csv",
         Patterns::FileName(),
         "CSV table of the gait cycle, read by the column names of its "
         "header line: percent_cycle and the protocol's channels (force: "
-        "flexion_deg, axial_force_N, ap_force_N, ie_torque_Nm); other "
+        "flexion_deg, axial_force_N, ap_force_N, ie_torque_Nm; "
+        "displacement: flexion_deg, axial_force_N, ap_displacement_mm, "
+        "ie_rotation_deg, e.g. data/iso14243-3.csv); other "
         "columns are ignored. The rows must cover the whole cycle. A "
         "relative path is taken from the directory of the parameter file "
         "that sets it, then from the working directory.");
@@ -172,6 +179,20 @@ namespace TKR::Parameters
                         "Multiplies the tabulated IE torque: +1 keeps the "
                         "table's convention (positive = internal rotation of "
                         "the tibia).");
+      prm.declare_entry("AP displacement sign",
+                        "1",
+                        Patterns::Selection("1|-1"),
+                        "Control = displacement: multiplies the tabulated AP "
+                        "displacement: +1 keeps the table's convention "
+                        "(positive = the tibia moved anteriorly, +y, mm).");
+      prm.declare_entry("IE rotation sign",
+                        "1",
+                        Patterns::Selection("1|-1"),
+                        "Control = displacement: multiplies the tabulated IE "
+                        "rotation: +1 keeps the table's convention (positive "
+                        "= internal rotation of the tibia, deg, about the "
+                        "vertical axis through the centroid of "
+                        "tibia_inferior).");
     }
   } // namespace
 
@@ -192,7 +213,9 @@ namespace TKR::Parameters
   {
     prm.enter_subsection("Gait");
     {
-      control             = GaitControl::force;
+      control =
+        (prm.get("Control") == "displacement" ? GaitControl::displacement :
+                                                GaitControl::force);
       waveform_file       = prm.get("Waveform file");
       steps_per_cycle     = prm.get_integer("Steps per cycle");
       flexion_axis_point  = Point<3>(get_vector(prm, "Flexion axis point"));
@@ -218,6 +241,8 @@ namespace TKR::Parameters
       pose_tolerance             = prm.get_double("Pose tolerance");
       ap_force_sign              = prm.get_double("AP force sign");
       ie_torque_sign             = prm.get_double("IE torque sign");
+      ap_displacement_sign       = prm.get_double("AP displacement sign");
+      ie_rotation_sign           = prm.get_double("IE rotation sign");
     }
     prm.leave_subsection();
   }

@@ -287,19 +287,20 @@ namespace TKR::Problems
     Gait::StepReport &report = reports[step];
     report                   = Gait::StepReport();
     report.input             = input;
-    protocol->report(pose, progress.observations, report);
     report.active_nodes      = stats.n_active;
     report.newton_iterations = progress.newton_iterations;
     report.pose_updates      = pose_solve.n_updates;
     report.max_pressure      = stats.max_pressure;
     report.contact_force     = stats.contact_force.norm();
     report.contact_resultant = stats.contact_force;
+    report.contact_moment    = stats.contact_moment;
     report.contact_area      = stats.contact_area;
     report.converged         = stats.converged && pose_solve.converged;
     report.pose_converged    = pose_solve.converged;
     report.pose_residual     = pose_solve.residual;
     report.contact_converged = stats.converged;
     report.wall_time         = step_timer.wall_time();
+    protocol->report(pose, progress.observations, report);
     starts[step] = {pose, state.active, progress.window.face_clearance};
     if (groups.n_groups == 1 && (print || !report.converged))
       model.pcout() << Output::step_line(step,

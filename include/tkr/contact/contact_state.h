@@ -56,6 +56,11 @@ namespace TKR::Contact
     double contact_area = 0;
     /** Resultant of the contact forces on the slave body (N). */
     dealii::Tensor<1, 3> contact_force;
+    /**
+     * Their moment (N mm) about the origin of the slave body's frame, each
+     * nodal force acting at the master point the node touches.
+     */
+    dealii::Tensor<1, 3> contact_moment;
     double               max_pressure = 0;
   };
 

@@ -88,11 +88,8 @@ namespace TKR::Gait
            StepReport         &report) const override;
 
     /**
-     * |F_z + F_axial| over its bound: the contact alone carries the axial
-     * force (the restraints act in the tray's plane); the axial
-     * stabilisation spring, whose force is below its stiffness times the
-     * pose tolerance once the pose has converged, and the contact solver's
-     * tolerance bound the difference.
+     * TibiaPose::axial_balance(): the contact alone carries the axial force
+     * (the restraints act in the tray's plane).
      */
     double
     load_balance(const StepReport &report) const override;

@@ -202,6 +202,14 @@ namespace TKR::Gait
   };
 
   /**
+   * The inputs of the step at @p percent of the cycle (any real, taken
+   * modulo 100) from @p waveform: what Protocol::input() returns for a
+   * protocol whose inputs are its waveform's channels.
+   */
+  StepInput
+  waveform_input(const Waveform &waveform, const double percent);
+
+  /**
    * The protocol of `Gait/Control` with the waveform of `Gait/Waveform
    * file`, for the bodies of @p triangulation (e.g. the tibia's inferior
    * surface, where its loads act).

@@ -73,6 +73,8 @@ namespace TKR::Gait
     double max_pressure = 0, contact_force = 0, contact_area = 0;
     /** The resultant of the contact forces on the tibia (N). */
     dealii::Tensor<1, 3> contact_resultant;
+    /** Its moment about the origin of the tibia's frame (N mm). */
+    dealii::Tensor<1, 3> contact_moment;
     /** The contact solves and the pose solve converged. */
     bool converged = false;
     /** The pose solve reached its tolerance. */
@@ -90,7 +92,7 @@ namespace TKR::Gait
       archive &input &pose                     &pose_values;
       archive &active_nodes &newton_iterations &pose_updates;
       archive &max_pressure &contact_force     &contact_area;
-      archive                                  &contact_resultant;
+      archive &contact_resultant               &contact_moment;
       archive &converged &pose_converged       &wall_time;
       archive &pose_residual                   &contact_converged;
     }

@@ -13,6 +13,7 @@
 
 #include <tkr/elasticity/linear_elasticity.h>
 #include <tkr/gait/gait_loads.h>
+#include <tkr/gait/protocol.h>
 #include <tkr/parameters/parameters.h>
 
 #include <array>
@@ -100,12 +101,15 @@ namespace TKR::Gait
     /**
      * The rigid tibial tray (`Tibial tray = rigid`): constraints that let
      * the inferior surface translate, rotate about z (IE) and ab/adduct
-     * (about y), but not tilt in the sagittal plane. Returns the number of
-     * inferior nodes tied to the tray.
+     * (about y), but not tilt in the sagittal plane. With @p hold_ap_ie
+     * the tray's AP translation (y) and IE rotation (about z) are held at
+     * the pose as well (displacement control: the simulator prescribes
+     * them). Returns the number of inferior nodes tied to the tray.
      */
     unsigned int
     add_tray_constraints(const dealii::DoFHandler<3>       &dof_handler,
-                         dealii::AffineConstraints<double> &constraints) const;
+                         dealii::AffineConstraints<double> &constraints,
+                         const bool hold_ap_ie = false) const;
 
     /**
      * Loads of a step on the tibia in @p pose: the gait's tractions, the
@@ -154,6 +158,29 @@ namespace TKR::Gait
      */
     std::array<Elasticity::BoundaryLoads, 4>
     motion_functionals() const;
+
+    /**
+     * motion_functionals() as a protocol's observations, named
+     * inferior_mean_displacement_x/y/z and inferior_rotation_z_deg.
+     */
+    std::vector<std::pair<std::string, Elasticity::BoundaryLoads>>
+    motion_observations() const;
+
+    /**
+     * |F_z + F_axial| over its bound, for a step whose contact resultant on
+     * the tibia is @p contact_resultant under the axial force
+     * @p axial_force: the contact alone carries the axial force; the axial
+     * stabilisation spring, whose force is below its stiffness times the
+     * pose tolerance once the pose has converged, and the contact solver's
+     * tolerance bound the difference.
+     */
+    double
+    axial_balance(const double                axial_force,
+                  const dealii::Tensor<1, 3> &contact_resultant) const;
+
+    /** The inferior motion from the observations of motion_observations(). */
+    static InferiorMotion
+    inferior_motion(const Observations &observations);
 
     /**
      * The pose iteration of one step, from @p pose (updated). @p solve

@@ -145,7 +145,12 @@ namespace TKR::Parameters
   enum class GaitControl
   {
     /** ISO 14243-1: forces and torque applied, the tibia's pose solved. */
-    force
+    force,
+    /**
+     * ISO 14243-3: flexion, AP displacement and IE rotation prescribed, the
+     * axial force applied, the tibia's axial and ML position solved.
+     */
+    displacement
   };
 
   /** `subsection Gait`: the knee simulator's gait cycle. */
@@ -172,6 +177,8 @@ namespace TKR::Parameters
     double ie_spring_range, ie_spring_stiffness_beyond;
     /** Sign applied to the tabulated AP force and IE torque. */
     double ap_force_sign, ie_torque_sign;
+    /** Sign applied to the tabulated AP displacement and IE rotation. */
+    double ap_displacement_sign, ie_rotation_sign;
     /**
      * Axial spring (N/mm) on the tibia's displacement relative to its pose:
      * numerical stabilisation that vanishes as the pose iteration converges.
