@@ -199,11 +199,22 @@ namespace
                                 return num(p.gait.axial_stabilisation_spring);
                               }},
                              {"Gait/Control",
-                              "force",
+                              "displacement",
                               [](const P &p) {
-                                return p.gait.control == GaitControl::force ?
-                                         std::string("force") :
-                                         std::string("?");
+                                return p.gait.control ==
+                                           GaitControl::displacement ?
+                                         std::string("displacement") :
+                                         std::string("force");
+                              }},
+                             {"Gait/AP displacement sign",
+                              "-1",
+                              [](const P &p) {
+                                return num(p.gait.ap_displacement_sign);
+                              }},
+                             {"Gait/IE rotation sign",
+                              "-1",
+                              [](const P &p) {
+                                return num(p.gait.ie_rotation_sign);
                               }},
                              {"Gait/Flexion axis point",
                               "1, -3, 50",
