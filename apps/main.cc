@@ -10,6 +10,7 @@
 #include <tkr/parameters/parameters.h>
 #include <tkr/problems/contact_problem.h>
 #include <tkr/problems/elasticity_problem.h>
+#include <tkr/problems/study_problem.h>
 #include <tkr/problems/wear_problem.h>
 
 #include <iostream>
@@ -24,6 +25,8 @@ namespace
       << "Usage: tkr-wear FILE.prm           run the problem the file describes\n"
       << "       tkr-wear --resume FILE.prm  continue a wear run from the "
          "checkpoint in its output directory\n"
+      << "                                   (a study: skip the finished "
+         "cases, continue the others)\n"
       << "       tkr-wear --print-parameters write the documented default "
          "parameter file\n"
       << "       tkr-wear --help             this text\n"
@@ -39,9 +42,11 @@ namespace
     using namespace TKR;
     const Parameters::AllParameters parameters =
       Parameters::read_parameters(filename);
-    AssertThrow(!resume || parameters.problem == Parameters::ProblemType::wear,
+    AssertThrow(!resume ||
+                  parameters.problem == Parameters::ProblemType::wear ||
+                  parameters.problem == Parameters::ProblemType::study,
                 ExcInputError("--resume continues a wear run (Problem = "
-                              "wear); <" +
+                              "wear) or a study; <" +
                               filename + "> sets Problem = " +
                               Parameters::to_string(parameters.problem) + "."));
     switch (parameters.problem)
@@ -59,6 +64,13 @@ namespace
         case Parameters::ProblemType::wear:
           {
             Problems::WearProblem problem(parameters, mpi_communicator, resume);
+            return problem.run() ? 0 : 1;
+          }
+        case Parameters::ProblemType::study:
+          {
+            Problems::StudyProblem problem(parameters,
+                                           mpi_communicator,
+                                           resume);
             return problem.run() ? 0 : 1;
           }
       }

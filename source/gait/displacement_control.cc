@@ -45,7 +45,7 @@ namespace TKR::Gait
   DisplacementControl::DisplacementControl(const Parameters::Gait &parameters,
                                            const InferiorSurface  &surface)
     : parameters(parameters)
-    , table(parameters.waveform_file, channels)
+    , table(parameters.waveform_file, channels, parameters.channel_scales)
     , gait_loads(without_restraints(parameters), surface)
     , tibia_pose(without_restraints(parameters), gait_loads)
   {
@@ -128,8 +128,9 @@ namespace TKR::Gait
   {
     AssertDimension(input.values.size(), 4);
     PoseState state;
-    state.translation[1] = parameters.ap_displacement_sign * input.values[2];
-    state.rotation       = -parameters.medial_direction *
+    state.translation[1] = parameters.ap_displacement_sign * input.values[2] -
+                           parameters.femur_ap_offset;
+    state.rotation = -parameters.medial_direction *
                      parameters.ie_rotation_sign * input.values[3];
     if (!pose.empty())
       {
@@ -351,7 +352,7 @@ namespace TKR::Gait
     AssertDimension(report.pose_values.size(), 4);
     std::ostringstream text;
     text << std::fixed << std::setprecision(2) << "tibia y " << std::setw(5)
-         << parameters.ap_displacement_sign * report.input.values[2] << " z "
+         << pose_state(report.input, report.pose).translation[1] << " z "
          << std::setw(5) << report.pose_values[3] << " mm, reactions "
          << std::setprecision(0) << std::setw(4) << report.pose_values[0]
          << " N " << std::setprecision(2) << std::setw(5)

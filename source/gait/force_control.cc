@@ -25,7 +25,7 @@ namespace TKR::Gait
   ForceControl::ForceControl(const Parameters::Gait &parameters,
                              const InferiorSurface  &surface)
     : parameters(parameters)
-    , table(parameters.waveform_file, channels)
+    , table(parameters.waveform_file, channels, parameters.channel_scales)
     , gait_loads(parameters, surface)
     , tibia_pose(parameters, gait_loads)
   {}

@@ -85,8 +85,13 @@ namespace TKR::Gait
   Tensor<1, 3>
   GaitLoads::force(const GaitState &state) const
   {
+    // A femur offset a moves the AP restraint's neutral tibia position to
+    // -a: the springs' force -K (d + a) is -K d plus the constant -K a.
     return Tensor<1, 3>(
-      {0., parameters.ap_force_sign * state.ap_force, state.axial_force});
+      {0.,
+       parameters.ap_force_sign * state.ap_force -
+         parameters.ap_spring_stiffness * parameters.femur_ap_offset,
+       state.axial_force});
   }
 
   Tensor<1, 3>
@@ -190,7 +195,7 @@ namespace TKR::Gait
   double
   GaitLoads::ap_restraint_excess(const double d) const
   {
-    return excess(d,
+    return excess(d + parameters.femur_ap_offset,
                   parameters.ap_spring_range,
                   parameters.ap_spring_stiffness,
                   parameters.ap_spring_stiffness_beyond);

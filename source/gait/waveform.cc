@@ -14,11 +14,27 @@ namespace TKR::Gait
 {
   using namespace dealii;
 
-  Waveform::Waveform(const std::string       &filename,
-                     std::vector<std::string> channels)
+  Waveform::Waveform(const std::string                   &filename,
+                     std::vector<std::string>             channels,
+                     const std::map<std::string, double> &scales)
     : filename(filename)
     , channel_names(std::move(channels))
   {
+    std::vector<double> factor(channel_names.size(), 1.);
+    for (const auto &[name, value] : scales)
+      {
+        const auto it =
+          std::find(channel_names.begin(), channel_names.end(), name);
+        std::string known;
+        for (const std::string &channel : channel_names)
+          known += (known.empty() ? "" : ", ") + channel;
+        AssertThrow(it != channel_names.end(),
+                    ExcInputError("Gait/Channel scales names <" + name +
+                                  ">, which is not a channel of this "
+                                  "protocol (" +
+                                  known + ")."));
+        factor[it - channel_names.begin()] = value;
+      }
     std::vector<std::string> columns = {"percent_cycle"};
     columns.insert(columns.end(), channel_names.begin(), channel_names.end());
     const CsvTable table(filename,
@@ -41,6 +57,8 @@ namespace TKR::Gait
                     ExcInputError(table.where(r) + "percent above 100."));
         percents.push_back(percent);
         rows.emplace_back(table.row(r).begin() + 1, table.row(r).end());
+        for (unsigned int c = 0; c < factor.size(); ++c)
+          rows.back()[c] *= factor[c];
       }
     AssertThrow(rows.size() >= 2,
                 ExcInputError(table.name() +

@@ -135,7 +135,9 @@ namespace TKR::Output
         {"Wear/Cross-shear table (checksum)", ""},
         {"Wear/Run-in file (checksum)", ""},
         {"Gait/AP displacement sign", "1"},
-        {"Gait/IE rotation sign", "1"}};
+        {"Gait/IE rotation sign", "1"},
+        {"Gait/Femur AP offset", "0"},
+        {"Gait/Channel scales", ""}};
       return added;
     }
 

@@ -193,6 +193,28 @@ namespace TKR::Parameters
                         "= internal rotation of the tibia, deg, about the "
                         "vertical axis through the centroid of "
                         "tibia_inferior).");
+      prm.declare_entry(
+        "Femur AP offset",
+        "0",
+        Patterns::Double(),
+        "Where the femur sits on the insert when the AP restraint is "
+        "relaxed (mm, positive = femur anterior of the insert's neutral "
+        "position; a mounting offset). Control = force: the AP restraint's "
+        "neutral position moves the tibia by minus this; Control = "
+        "displacement: the prescribed AP displacement is shifted by minus "
+        "this. 0: the positions of the mesh.");
+      prm.declare_entry(
+        "Channel scales",
+        "",
+        Patterns::Map(Patterns::Anything(),
+                      Patterns::Double(),
+                      0,
+                      20,
+                      ",",
+                      ":"),
+        "Factors on waveform channels, by column name, e.g. "
+        "\"axial_force_N: 1.1, ap_force_N: 0.9\" (a column the protocol "
+        "does not read is refused). Empty: the waveform as tabulated.");
     }
   } // namespace
 
@@ -243,6 +265,15 @@ namespace TKR::Parameters
       ie_torque_sign             = prm.get_double("IE torque sign");
       ap_displacement_sign       = prm.get_double("AP displacement sign");
       ie_rotation_sign           = prm.get_double("IE rotation sign");
+      femur_ap_offset            = prm.get_double("Femur AP offset");
+      channel_scales.clear();
+      for (const std::string &pair :
+           Utilities::split_string_list(prm.get("Channel scales"), ','))
+        {
+          const auto parts = Utilities::split_string_list(pair, ':');
+          channel_scales[parts.at(0)] =
+            Utilities::string_to_double(parts.at(1));
+        }
     }
     prm.leave_subsection();
   }

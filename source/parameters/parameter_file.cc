@@ -159,6 +159,16 @@ namespace TKR::Parameters::internal
       .string();
   }
 
+  std::string
+  ParameterText::place_of(const std::string &path) const
+  {
+    const auto it = setter.find(path);
+    if (it == setter.end())
+      return "";
+    return origin[it->second].first + ":" +
+           std::to_string(origin[it->second].second);
+  }
+
   // ShortPRM output is `subsection NAME`, `set NAME = VALUE` and `end`
   // lines only.
   std::map<std::string, std::string>

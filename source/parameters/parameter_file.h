@@ -53,6 +53,13 @@ namespace TKR::Parameters::internal
     std::string
     directory_of(const std::string &path) const;
 
+    /**
+     * "FILE:LINE" of the line that set the entry @p path last, "" if no
+     * line sets it.
+     */
+    std::string
+    place_of(const std::string &path) const;
+
   private:
     /** Append the lines of @p filename; @p depth counts nested includes. */
     void

@@ -481,10 +481,12 @@ namespace TKR::Parameters
   {
     prm.declare_entry("Problem",
                       "wear",
-                      Patterns::Selection("wear|contact|elasticity"),
+                      Patterns::Selection("wear|contact|elasticity|study"),
                       "wear: the ISO 14243-1 wear run; contact: one static "
                       "contact solve; elasticity: both bodies loaded "
-                      "separately, without contact (demonstration).");
+                      "separately, without contact (demonstration); study: "
+                      "many variants of a wear run (subsection Study, "
+                      "doc/studies.md).");
     Mesh::declare_parameters(prm);
     Materials::declare_parameters(prm);
     Elasticity::declare_parameters(prm);
@@ -495,6 +497,7 @@ namespace TKR::Parameters
     LinearSolver::declare_parameters(prm);
     Output::declare_parameters(prm);
     Verification::declare_parameters(prm);
+    Study::declare_parameters(prm);
   }
 
   void
@@ -503,6 +506,7 @@ namespace TKR::Parameters
     const std::string name = prm.get("Problem");
     problem                = (name == "wear"    ? ProblemType::wear :
                               name == "contact" ? ProblemType::contact :
+                              name == "study"   ? ProblemType::study :
                                                   ProblemType::elasticity);
     mesh.parse_parameters(prm);
     materials.parse_parameters(prm);
@@ -514,6 +518,107 @@ namespace TKR::Parameters
     linear_solver.parse_parameters(prm);
     output.parse_parameters(prm);
     verification.parse_parameters(prm);
+    study.parse_parameters(prm);
+  }
+
+  void
+  Study::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Study");
+    {
+      prm.declare_entry("Base parameter file",
+                        "",
+                        Patterns::Anything(),
+                        "Problem = study: the parameter file of the wear run "
+                        "whose variants are the cases (Problem = wear). Each "
+                        "case runs it with its entries overridden, in "
+                        "<Output/Directory of the study>/case-NNNN.");
+      prm.declare_entry(
+        "Grid",
+        "",
+        Patterns::Anything(),
+        "Full-factorial factors separated by ';', each PATH = v1, v2, ... "
+        "with PATH an entry of the base file as Subsection/Entry (e.g. "
+        "Wear/Wear coefficient, Materials/Tibia/Young's modulus), "
+        "PATH[i] for component i of a vector entry (e.g. Gait/Flexion axis "
+        "point[1]). PATH += v adds v to the base value, PATH *= v "
+        "multiplies it. A factor with one value sets that entry in every "
+        "case.");
+      prm.declare_entry("Cases file",
+                        "",
+                        Patterns::Anything(),
+                        "CSV file of cases: a header of entry paths (as in "
+                        "Grid, plain values), one row per case. Empty: "
+                        "none.");
+      prm.declare_entry("Sampling",
+                        "none",
+                        Patterns::Selection("none|latin hypercube|monte carlo"),
+                        "How the samples of Distributions are drawn: latin "
+                        "hypercube (each entry's range cut into Samples "
+                        "strata of equal probability, one sample in each, "
+                        "strata paired at random) or monte carlo "
+                        "(independent samples). Reproducible from Seed.");
+      prm.declare_entry("Samples",
+                        "0",
+                        Patterns::Integer(0),
+                        "Number of samples (Sampling other than none).");
+      prm.declare_entry("Seed",
+                        "1",
+                        Patterns::Integer(0),
+                        "Seed of the random numbers (mt19937_64): the same "
+                        "seed gives the same samples on any machine.");
+      prm.declare_entry(
+        "Distributions",
+        "",
+        Patterns::Anything(),
+        "Per sampled entry a distribution, separated by ';': PATH = "
+        "uniform(a, b), normal(mean, sd) or log-normal(mu, sigma) (mu, "
+        "sigma of ln X); PATH += ... and PATH *= ... add the sample to or "
+        "multiply the base value (e.g. Wear/Wear coefficient *= "
+        "uniform(0.8, 1.2)).");
+      prm.declare_entry("Ranks per case",
+                        "1",
+                        Patterns::Integer(1),
+                        "MPI ranks that run one case together; the job's "
+                        "ranks form groups of this size that take cases "
+                        "from a shared queue until none is left.");
+      prm.declare_entry(
+        "Mesh generator",
+        "",
+        Patterns::Anything(),
+        "A program that writes each case's mesh, e.g. "
+        "meshes/gen/tkr_variant.py (the parametric TKR). Called per case "
+        "as GENERATOR ARGUMENTS --set NAME=VALUE ... -o case-NNNN/mesh.msh "
+        "--prm case-NNNN/mesh.prm, with NAME=VALUE for every Generator/NAME "
+        "entry of the case; mesh.prm (the mesh file and the flexion axis) is "
+        "included after the base file. GENERATOR ARGUMENTS --print lists "
+        "the base values as NAME=VALUE lines. Empty: none.");
+      prm.declare_entry("Mesh generator arguments",
+                        "",
+                        Patterns::Anything(),
+                        "The generator's fixed arguments, e.g. --variant a "
+                        "--resolution coarse.");
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  Study::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Study");
+    {
+      base_file                = prm.get("Base parameter file");
+      grid                     = prm.get("Grid");
+      cases_file               = prm.get("Cases file");
+      sampling                 = prm.get("Sampling");
+      samples                  = prm.get_integer("Samples");
+      seed                     = prm.get_integer("Seed");
+      distributions            = prm.get("Distributions");
+      ranks_per_case           = prm.get_integer("Ranks per case");
+      mesh_generator           = prm.get("Mesh generator");
+      mesh_generator_arguments = prm.get("Mesh generator arguments");
+    }
+    prm.leave_subsection();
   }
 
   // ParameterHandler reads the text with the includes expanded
@@ -566,6 +671,12 @@ namespace TKR::Parameters
     resolve(parameters.wear.run_in_file, "Wear/Run-in file");
     resolve(parameters.output.measured_mass_loss_file,
             "Output/Measured mass loss file");
+    resolve(parameters.study.base_file, "Study/Base parameter file");
+    resolve(parameters.study.cases_file, "Study/Cases file");
+    resolve(parameters.study.mesh_generator, "Study/Mesh generator");
+    for (const auto &entry : parameters.entries)
+      if (const std::string place = text.place_of(entry.first); !place.empty())
+        parameters.places[entry.first] = place;
     return parameters;
   }
 
@@ -588,6 +699,8 @@ namespace TKR::Parameters
           return "contact";
         case ProblemType::elasticity:
           return "elasticity";
+        case ProblemType::study:
+          return "study";
       }
     return "";
   }

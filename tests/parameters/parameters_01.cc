@@ -216,6 +216,65 @@ namespace
                               [](const P &p) {
                                 return num(p.gait.ie_rotation_sign);
                               }},
+                             {"Gait/Femur AP offset",
+                              "1.5",
+                              [](const P &p) {
+                                return num(p.gait.femur_ap_offset);
+                              }},
+                             {"Gait/Channel scales",
+                              "axial_force_N: 1.25",
+                              [](const P &p) {
+                                std::string text;
+                                for (const auto &[name, factor] :
+                                     p.gait.channel_scales)
+                                  text += name + ": " + num(factor);
+                                return text;
+                              }},
+                             {"Study/Base parameter file",
+                              source + "/prm/iso14243-1-coarse.prm",
+                              [](const P &p) {
+                                return file_name(p.study.base_file);
+                              },
+                              true},
+                             {"Study/Cases file",
+                              source + "/data/iso14243-1.csv",
+                              [](const P &p) {
+                                return file_name(p.study.cases_file);
+                              },
+                              true},
+                             {"Study/Grid",
+                              "Wear/Wear coefficient = 1e-7, 2e-7",
+                              [](const P &p) { return p.study.grid; }},
+                             {"Study/Sampling",
+                              "monte carlo",
+                              [](const P &p) { return p.study.sampling; }},
+                             {"Study/Samples",
+                              "8",
+                              [](const P &p) { return num(p.study.samples); }},
+                             {"Study/Seed",
+                              "7",
+                              [](const P &p) { return num(p.study.seed); }},
+                             {"Study/Distributions",
+                              "Wear/Wear coefficient = uniform(1e-7, 3e-7)",
+                              [](const P &p) {
+                                return p.study.distributions;
+                              }},
+                             {"Study/Mesh generator",
+                              source + "/meshes/gen/tkr_variant.py",
+                              [](const P &p) {
+                                return file_name(p.study.mesh_generator);
+                              },
+                              true},
+                             {"Study/Mesh generator arguments",
+                              "--variant b",
+                              [](const P &p) {
+                                return p.study.mesh_generator_arguments;
+                              }},
+                             {"Study/Ranks per case",
+                              "2",
+                              [](const P &p) {
+                                return num(p.study.ranks_per_case);
+                              }},
                              {"Gait/Flexion axis point",
                               "1, -3, 50",
                               [](const P &p) {

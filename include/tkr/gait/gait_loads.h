@@ -105,7 +105,9 @@ namespace TKR::Gait
      * The two-rate restraint law's force beyond its inner, linear rate
      * (which the springs of loads() carry): the AP force (N, along +y) on
      * the tibia at an AP translation @p d (mm), zero within the AP spring
-     * range, -(k_beyond - k) (|d| - range) sign(d) outside.
+     * range, -(k_beyond - k) (|d| - range) sign(d) outside; the range is
+     * measured from the restraint's neutral position, minus `Femur AP
+     * offset`.
      */
     double
     ap_restraint_excess(const double d) const;

@@ -4,6 +4,7 @@
 #ifndef tkr_gait_waveform_h
 #define tkr_gait_waveform_h
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -28,9 +29,13 @@ namespace TKR::Gait
     /**
      * Read @p filename and keep the columns @p channels. ExcInputError
      * with file and line on bad input, naming the missing column or the
-     * range of the cycle that the rows do not cover.
+     * range of the cycle that the rows do not cover. Each channel named
+     * in @p scales is multiplied by its factor (`Gait/Channel scales`; a
+     * name that is not a channel is refused).
      */
-    Waveform(const std::string &filename, std::vector<std::string> channels);
+    Waveform(const std::string                   &filename,
+             std::vector<std::string>             channels,
+             const std::map<std::string, double> &scales = {});
 
     /**
      * The values of the channels (in the order of the constructor) at

@@ -180,6 +180,15 @@ namespace TKR::Parameters
     /** Sign applied to the tabulated AP displacement and IE rotation. */
     double ap_displacement_sign, ie_rotation_sign;
     /**
+     * The femur's AP position on the insert (mm, + anterior) when the AP
+     * restraint is relaxed: the restraint's neutral tibia position is at
+     * minus this (force control), the prescribed AP displacement shifted by
+     * minus this (displacement control).
+     */
+    double femur_ap_offset = 0.;
+    /** Factors on waveform channels by column name (empty: none). */
+    std::map<std::string, double> channel_scales;
+    /**
      * Axial spring (N/mm) on the tibia's displacement relative to its pose:
      * numerical stabilisation that vanishes as the pose iteration converges.
      */
@@ -355,12 +364,57 @@ namespace TKR::Parameters
     parse_parameters(dealii::ParameterHandler &prm);
   };
 
+  /**
+   * `subsection Study` (`Problem = study`): many variants of one wear run
+   * (doc/studies.md). The cases are the product of the grid's factors,
+   * the rows of the cases file and the samples (each 1 if not given).
+   */
+  struct Study
+  {
+    /** The parameter file of the run that the cases vary (resolved). */
+    std::string base_file;
+    /**
+     * Full-factorial factors, `PATH = v1, v2, ...` separated by `;` (PATH
+     * a "Subsection/Entry" of the base file, with `[i]` for a component of
+     * a vector entry; `+=` and `*=` add to or multiply the base value).
+     */
+    std::string grid;
+    /** CSV file of cases, one column per entry path ("" if none). */
+    std::string cases_file;
+    /** `none`, `latin hypercube` or `monte carlo`. */
+    std::string sampling;
+    /** Number of samples (sampling only). */
+    unsigned int samples;
+    /** Seed of the random numbers (the same seed, the same samples). */
+    unsigned int seed;
+    /**
+     * Per entry a distribution, `PATH = uniform(a, b)`, `normal(mean,
+     * sd)` or `log-normal(mu, sigma)` (of ln X), separated by `;`; `+=`
+     * and `*=` as in the grid.
+     */
+    std::string distributions;
+    /** MPI ranks that run one case together. */
+    unsigned int ranks_per_case;
+    /**
+     * A program that writes each case's mesh (resolved; "" for none), with
+     * its fixed arguments; the case's `Generator/NAME` entries become
+     * `--set NAME=VALUE` arguments (doc/studies.md).
+     */
+    std::string mesh_generator, mesh_generator_arguments;
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+
   /** The problems the program solves (`set Problem = ...`). */
   enum class ProblemType
   {
     elasticity,
     contact,
-    wear
+    wear,
+    study
   };
 
   /** All parameters of a run. */
@@ -377,6 +431,7 @@ namespace TKR::Parameters
     LinearSolver  linear_solver;
     Output        output;
     Verification  verification;
+    Study         study;
 
     /** The parameter file these values came from ("" for the defaults). */
     std::string parameter_file;
@@ -386,6 +441,9 @@ namespace TKR::Parameters
      * e.g. for a checkpoint's record of the run's parameters.
      */
     std::map<std::string, std::string> entries;
+
+    /** "FILE:LINE" of each entry the parameter file sets, by path. */
+    std::map<std::string, std::string> places;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);

@@ -1,0 +1,533 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#include <deal.II/base/mpi.h>
+
+#include <tkr/base/exceptions.h>
+#include <tkr/problems/study_problem.h>
+#include <tkr/problems/wear_problem.h>
+
+#include <boost/property_tree/json_parser.hpp>
+#include <boost/property_tree/ptree.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+namespace TKR::Problems
+{
+  using namespace dealii;
+
+  namespace
+  {
+    /** The results of a case's summary.json that study.csv lists. */
+    const std::vector<std::string> result_keys = {"mass_loss_mg",
+                                                  "volume_loss_mm3",
+                                                  "wear_area_percent",
+                                                  "max_wear_depth_mm",
+                                                  "medial_mass_loss_mg",
+                                                  "lateral_mass_loss_mg",
+                                                  "max_pressure_MPa",
+                                                  "contact_solves"};
+
+    std::string
+    json_string(const std::string &text)
+    {
+      std::string out = "\"";
+      for (const char c : text)
+        if (c == '"' || c == '\\')
+          out += std::string("\\") + c;
+        else if (c == '\n')
+          out += "\\n";
+        else if (static_cast<unsigned char>(c) >= 0x20)
+          out += c;
+      return out + "\"";
+    }
+
+    std::string
+    csv_field(const std::string &text)
+    {
+      if (text.find_first_of(",\"\n") == std::string::npos)
+        return text;
+      std::string out = "\"";
+      for (const char c : text)
+        out += (c == '"'  ? std::string("\"\"") :
+                c == '\n' ? std::string(" ") :
+                            std::string(1, c));
+      return out + "\"";
+    }
+
+    /** A flat JSON file as key -> value text ({} if absent or broken). */
+    std::map<std::string, std::string>
+    read_flat_json(const std::string &filename)
+    {
+      std::map<std::string, std::string> values;
+      if (!std::filesystem::exists(filename))
+        return values;
+      try
+        {
+          boost::property_tree::ptree tree;
+          boost::property_tree::read_json(filename, tree);
+          for (const auto &[key, node] : tree)
+            values[key] = node.get_value<std::string>();
+        }
+      catch (const std::exception &)
+        {
+          values.clear();
+        }
+      return values;
+    }
+
+    /** Write @p text to @p filename via a temporary file and a rename. */
+    void
+    write_atomically(const std::string &filename, const std::string &text)
+    {
+      const std::string temporary = filename + ".tmp";
+      {
+        std::ofstream out(temporary);
+        out << text;
+        AssertThrow(out.good(),
+                    ExcInputError("Cannot write <" + temporary + ">."));
+      }
+      std::filesystem::rename(temporary, filename);
+    }
+
+    /**
+     * std::cout and std::cerr into the case's log.txt (the group's rank 0)
+     * or a string (the others) while the guard lives.
+     */
+    class CaseOutput
+    {
+    public:
+      CaseOutput(const std::string &filename, const bool is_group_root)
+      {
+        if (is_group_root)
+          file.open(filename);
+        std::streambuf *target = is_group_root ?
+                                   static_cast<std::streambuf *>(file.rdbuf()) :
+                                   static_cast<std::streambuf *>(other.rdbuf());
+        out                    = std::cout.rdbuf(target);
+        err                    = std::cerr.rdbuf(target);
+      }
+      ~CaseOutput()
+      {
+        std::cout.flush();
+        std::cerr.flush();
+        std::cout.rdbuf(out);
+        std::cerr.rdbuf(err);
+      }
+
+    private:
+      std::ofstream      file;
+      std::ostringstream other;
+      std::streambuf    *out;
+      std::streambuf    *err;
+    };
+    /**
+     * The cases' queue: a counter on rank 0 of the job that each group's
+     * rank 0 increments atomically (MPI_Fetch_and_op, passive target), or
+     * a plain counter if there is one group.
+     */
+    class CaseQueue
+    {
+    public:
+      CaseQueue(const MPI_Comm communicator, const bool shared)
+      {
+        if (!shared)
+          return;
+        const bool is_root =
+          Utilities::MPI::this_mpi_process(communicator) == 0;
+        int ierr = MPI_Win_create(is_root ? &counter : nullptr,
+                                  is_root ? sizeof(int) : 0,
+                                  sizeof(int),
+                                  MPI_INFO_NULL,
+                                  communicator,
+                                  &window);
+        AssertThrowMPI(ierr);
+        ierr = MPI_Win_lock_all(0, window);
+        AssertThrowMPI(ierr);
+      }
+
+      ~CaseQueue()
+      {
+        if (window == MPI_WIN_NULL)
+          return;
+        MPI_Win_unlock_all(window);
+        MPI_Win_free(&window);
+      }
+
+      CaseQueue(const CaseQueue &) = delete;
+      CaseQueue &
+      operator=(const CaseQueue &) = delete;
+
+      /** The next case for @p group (all its ranks get the same). */
+      unsigned int
+      next(const StepGroups &group)
+      {
+        int index = 0;
+        if (window == MPI_WIN_NULL)
+          index = counter++;
+        else if (group.is_group_root)
+          {
+            const int one = 1;
+            int       ierr =
+              MPI_Fetch_and_op(&one, &index, MPI_INT, 0, 0, MPI_SUM, window);
+            AssertThrowMPI(ierr);
+            ierr = MPI_Win_flush(0, window);
+            AssertThrowMPI(ierr);
+          }
+        return Utilities::MPI::broadcast(group.communicator, index, 0);
+      }
+
+    private:
+      int     counter = 0;
+      MPI_Win window  = MPI_WIN_NULL;
+    };
+    /**
+     * The standard output of @p command (ExcInputError naming @p what and
+     * the command's last line if it fails).
+     */
+    std::string
+    run_command(const std::string &command, const std::string &what)
+    {
+      std::string output;
+      FILE       *pipe = popen((command + " 2>&1").c_str(), "r");
+      AssertThrow(pipe != nullptr,
+                  ExcInputError(what + ": cannot run <" + command + ">."));
+      char buffer[4096];
+      while (std::fgets(buffer, sizeof(buffer), pipe) != nullptr)
+        output += buffer;
+      const int status = pclose(pipe);
+      if (status != 0)
+        {
+          std::string last =
+            output.substr(0, output.find_last_not_of('\n') + 1);
+          last = last.substr(last.find_last_of('\n') + 1);
+          AssertThrow(false,
+                      ExcInputError(what + ": <" + command +
+                                    "> failed: " + last));
+        }
+      return output;
+    }
+  } // namespace
+
+  std::string
+  StudyProblem::generator_command() const
+  {
+    return "'" + parameters.study.mesh_generator + "' " +
+           parameters.study.mesh_generator_arguments;
+  }
+
+  StudyProblem::StudyProblem(const Parameters::AllParameters &parameters,
+                             const MPI_Comm                   mpi_communicator,
+                             const bool                       resume)
+    : parameters(parameters)
+    , mpi_communicator(mpi_communicator)
+    , resume(resume)
+    , is_root(Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+  {
+    AssertThrow(!parameters.study.base_file.empty(),
+                ExcInputError("Problem = study needs Study/Base parameter "
+                              "file: the wear run whose variants the cases "
+                              "are."));
+    base = Parameters::read_parameters(parameters.study.base_file);
+    AssertThrow(base.problem == Parameters::ProblemType::wear,
+                ExcInputError(
+                  "Study/Base parameter file <" + parameters.study.base_file +
+                  "> sets Problem = " + Parameters::to_string(base.problem) +
+                  "; a study varies a wear run (Problem = "
+                  "wear)."));
+    // The generator's parameters count as entries Generator/NAME of the
+    // base (for += and *=, and to refuse a name it does not have).
+    Parameters::AllParameters varied = base;
+    if (!parameters.study.mesh_generator.empty())
+      {
+        std::string listing;
+        on_root(
+          [&]() {
+            listing = run_command(generator_command() + " --print",
+                                  "Study/Mesh generator");
+          },
+          mpi_communicator);
+        listing = Utilities::MPI::broadcast(mpi_communicator, listing, 0);
+        std::istringstream in(listing);
+        for (std::string line; std::getline(in, line);)
+          if (const auto equal = line.find('='); equal != std::string::npos)
+            varied.entries["Generator/" + line.substr(0, equal)] =
+              line.substr(equal + 1);
+      }
+    cases = make_study_cases(parameters, varied);
+    const unsigned int n_ranks =
+      Utilities::MPI::n_mpi_processes(mpi_communicator);
+    AssertThrow(n_ranks % parameters.study.ranks_per_case == 0,
+                ExcInputError("Study/Ranks per case = " +
+                              std::to_string(parameters.study.ranks_per_case) +
+                              " does not divide the " +
+                              std::to_string(n_ranks) +
+                              " MPI ranks of the job into groups."));
+  }
+
+  std::string
+  StudyProblem::case_directory(const unsigned int index) const
+  {
+    return parameters.output.directory + "/" + cases[index].name;
+  }
+
+  bool
+  StudyProblem::run()
+  {
+    const unsigned int n_ranks =
+      Utilities::MPI::n_mpi_processes(mpi_communicator);
+    const unsigned int n_groups = n_ranks / parameters.study.ranks_per_case;
+    if (is_root)
+      std::cout
+        << "Study <" << parameters.parameter_file << ">: " << cases.size()
+        << " cases of <"
+        << std::filesystem::path(parameters.study.base_file).filename().string()
+        << ">, " << n_groups << " group(s) of "
+        << parameters.study.ranks_per_case << " rank(s)"
+        << (resume ? ", resumed" : "") << std::endl;
+    // Every case's directory and parameter file, before any group starts.
+    const std::string base_file =
+      std::filesystem::absolute(parameters.study.base_file).string();
+    on_root(
+      [&]() {
+        for (unsigned int i = 0; i < cases.size(); ++i)
+          {
+            const std::string directory = case_directory(i);
+            std::filesystem::create_directories(directory);
+            std::map<std::string, std::string> entries = cases[i].entries;
+            entries["Output/Directory"]                = directory;
+            write_atomically(
+              directory + "/case.prm",
+              case_parameter_text(base_file,
+                                  parameters.study.mesh_generator.empty() ?
+                                    std::vector<std::string>() :
+                                    std::vector<std::string>{"mesh.prm"},
+                                  entries,
+                                  cases[i].name + " of the study <" +
+                                    parameters.parameter_file +
+                                    ">: tkr-wear case.prm repeats it alone."));
+            if (!resume)
+              std::filesystem::remove(directory + "/status.json");
+          }
+      },
+      mpi_communicator);
+
+    const StepGroups group(mpi_communicator, n_groups);
+    {
+      CaseQueue queue(mpi_communicator, n_groups > 1);
+      for (unsigned int index = queue.next(group); index < cases.size();
+           index              = queue.next(group))
+        run_case(index, group);
+    }
+
+    MPI_Barrier(mpi_communicator);
+    unsigned int n_failed = 0;
+    if (is_root)
+      {
+        n_failed = output_results();
+        if (parameters.output.plots)
+          {
+            const std::string command =
+              "'" + std::string(TKR_SOURCE_DIR) + "/scripts/plot-study' '" +
+              parameters.output.directory + "' > '" +
+              parameters.output.directory + "/plot-study.log' 2>&1";
+            if (std::system(command.c_str()) != 0)
+              std::cout << "Warning: scripts/plot-study failed, see <"
+                        << parameters.output.directory << "/plot-study.log>"
+                        << std::endl;
+          }
+      }
+    n_failed = Utilities::MPI::broadcast(mpi_communicator, n_failed, 0);
+    return n_failed == 0;
+  }
+
+  void
+  StudyProblem::run_case(const unsigned int index, const StepGroups &group)
+  {
+    const std::string directory   = case_directory(index);
+    const std::string status_file = directory + "/status.json";
+    bool              skip        = false;
+    if (group.is_group_root)
+      skip = resume && !read_flat_json(status_file).empty();
+    if (Utilities::MPI::broadcast(group.communicator, skip, 0))
+      return;
+
+    const double start   = MPI_Wtime();
+    std::string  status  = "done", reason;
+    bool         resumed = false;
+    {
+      CaseOutput output(directory + "/log.txt", group.is_group_root);
+      try
+        {
+          if (!parameters.study.mesh_generator.empty())
+            {
+              // The case's mesh first (on the group's rank 0; its error on
+              // every rank of the group).
+              std::string error;
+              if (group.is_group_root)
+                try
+                  {
+                    std::string command = generator_command();
+                    for (const auto &[path, value] : cases[index].entries)
+                      if (path.rfind("Generator/", 0) == 0)
+                        command +=
+                          " --set '" + path.substr(10) + "=" + value + "'";
+                    command += " -o '" + directory + "/mesh.msh' --prm '" +
+                               directory + "/mesh.prm'";
+                    std::cout << run_command(command, "the mesh generator");
+                  }
+                catch (const ExcInputError &exc)
+                  {
+                    error = exception_message(exc);
+                  }
+              error = Utilities::MPI::broadcast(group.communicator, error, 0);
+              AssertThrow(error.empty(), ExcInputError(error));
+            }
+          const Parameters::AllParameters case_parameters =
+            Parameters::read_parameters(directory + "/case.prm");
+          resumed =
+            resume && std::filesystem::exists(directory + "/checkpoint.h5");
+          WearProblem problem(case_parameters, group.communicator, resumed);
+          if (!problem.run())
+            {
+              status = "failed";
+              reason = "a contact solve, pose iteration or load balance did "
+                       "not converge (log.txt; summary.json lists the "
+                       "steps)";
+            }
+        }
+      catch (const ExceptionBase &exc)
+        {
+          status = "failed";
+          reason = exception_message(exc);
+        }
+      catch (const std::exception &exc)
+        {
+          status = "failed";
+          reason = exc.what();
+        }
+      // One line: deal.II's messages of the parameter checks span several.
+      std::istringstream words(reason);
+      reason.clear();
+      for (std::string word; words >> word;)
+        reason += (reason.empty() ? "" : " ") + word;
+      if (!reason.empty())
+        std::cout << cases[index].name << ": " << reason << std::endl;
+    }
+    const double wall_time = MPI_Wtime() - start;
+    if (!group.is_group_root)
+      return;
+    std::ostringstream json;
+    json << "{\n  \"case\": " << json_string(cases[index].name)
+         << ",\n  \"status\": " << json_string(status)
+         << ",\n  \"reason\": " << json_string(reason)
+         << ",\n  \"resumed\": " << (resumed ? "true" : "false")
+         << ",\n  \"wall_time_s\": " << wall_time << "\n}\n";
+    write_atomically(status_file, json.str());
+    if (!parameters.output.testing)
+      {
+        const auto summary = read_flat_json(directory + "/summary.json");
+        std::ostringstream line;
+        line << cases[index].name << " " << status << " in " << std::fixed
+             << std::setprecision(1) << wall_time << " s (group " << group.index
+             << ")";
+        if (summary.count("mass_loss_mg"))
+          line << ": mass loss " << summary.at("mass_loss_mg") << " mg";
+        std::cout << line.str() + "\n" << std::flush;
+      }
+  }
+
+  unsigned int
+  StudyProblem::output_results() const
+  {
+    std::vector<std::string> inputs;
+    for (const auto &[name, value] : cases.front().inputs)
+      inputs.push_back(name);
+    std::ostringstream csv, json;
+    csv << "case";
+    for (const std::string &name : inputs)
+      csv << "," << csv_field(name);
+    csv << ",status";
+    for (const std::string &key : result_keys)
+      csv << "," << key;
+    if (!parameters.output.testing)
+      csv << ",wall_time_s";
+    csv << ",reason\n";
+    json << "{\n  \"study\": " << json_string(parameters.parameter_file)
+         << ",\n  \"base\": " << json_string(parameters.study.base_file)
+         << ",\n  \"cases\": [";
+
+    // The screen table shows the inputs that differ between cases.
+    std::vector<bool> varies(inputs.size(), false);
+    for (const StudyCase &c : cases)
+      for (unsigned int j = 0; j < inputs.size(); ++j)
+        varies[j] =
+          varies[j] || c.inputs[j].second != cases.front().inputs[j].second;
+    std::cout << "Cases:" << std::endl;
+    unsigned int n_failed = 0;
+    for (unsigned int i = 0; i < cases.size(); ++i)
+      {
+        const std::string directory = case_directory(i);
+        auto              status  = read_flat_json(directory + "/status.json");
+        auto              summary = read_flat_json(directory + "/summary.json");
+        if (status.empty())
+          status = {{"status", "failed"}, {"reason", "not run"}};
+        if (status["status"] != "done")
+          ++n_failed;
+        csv << cases[i].name;
+        json << (i == 0 ? "" : ",")
+             << "\n    {\"case\": " << json_string(cases[i].name)
+             << ", \"inputs\": {";
+        for (unsigned int j = 0; j < cases[i].inputs.size(); ++j)
+          {
+            csv << "," << csv_field(cases[i].inputs[j].second);
+            json << (j == 0 ? "" : ", ")
+                 << json_string(cases[i].inputs[j].first) << ": "
+                 << json_string(cases[i].inputs[j].second);
+          }
+        csv << "," << status["status"];
+        json << "}, \"status\": " << json_string(status["status"])
+             << ", \"reason\": " << json_string(status["reason"]);
+        for (const std::string &key : result_keys)
+          {
+            const std::string value =
+              status["status"] == "done" ? summary[key] : "";
+            csv << "," << value;
+            if (!value.empty())
+              json << ", " << json_string(key) << ": " << value;
+          }
+        if (!parameters.output.testing)
+          {
+            csv << "," << status["wall_time_s"];
+            json << ", \"wall_time_s\": " << status["wall_time_s"];
+          }
+        csv << "," << csv_field(status["reason"]) << "\n";
+        json << "}";
+
+        std::cout << "  " << cases[i].name << "  " << std::setw(6)
+                  << status["status"];
+        for (unsigned int j = 0; j < cases[i].inputs.size(); ++j)
+          if (varies[j])
+            std::cout << "  " << cases[i].inputs[j].first << " = "
+                      << cases[i].inputs[j].second;
+        if (status["status"] == "done")
+          std::cout << "  mass loss " << summary["mass_loss_mg"] << " mg";
+        else
+          std::cout << "  (" << status["reason"] << ")";
+        std::cout << std::endl;
+      }
+    json << "\n  ],\n  \"done\": " << cases.size() - n_failed
+         << ",\n  \"failed\": " << n_failed << "\n}\n";
+    write_atomically(parameters.output.directory + "/study.csv", csv.str());
+    write_atomically(parameters.output.directory + "/study.json", json.str());
+    std::cout << cases.size() - n_failed << " of " << cases.size()
+              << " cases done, " << n_failed << " failed; results in <"
+              << parameters.output.directory << "/study.csv>" << std::endl;
+    return n_failed;
+  }
+} // namespace TKR::Problems

@@ -1,0 +1,171 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# study_test.sh TKR_WEAR MPIEXEC
+# Problem = study (doc/studies.md) on the inputs in tests/scripts/study/:
+# 1. the 2 x 2 grid (grid.prm) on 2 ranks (two groups of one rank, one
+#    queue; and one group of two ranks) and on 1 rank: the same study.csv
+#    (to 1e-9 relative);
+# 2. each case's case.prm run alone with tkr-wear: summary.json, steps.csv
+#    and wear_history.csv equal the study's case to 1e-9 relative; the
+#    physics of the inputs: doubling k doubles the mass loss (ratio in
+#    [1.9, 2.1]), Channel scales axial_force_N: 0.9 scales the axial force
+#    of every step by 0.9 (against data/iso14243-1.csv) and Femur AP
+#    offset = 0.5 moves the tibia posteriorly by more than 0 and less than
+#    0.5 mm in every step (case-0000 against itself without the offset);
+# 3. the grid on 1 rank killed (SIGKILL) while case-0001 runs (after its
+#    first checkpoint), resumed with --resume on 2 ranks: the finished case
+#    skipped, the interrupted one resumed from its checkpoint, study.csv and
+#    every case's files equal the uninterrupted run's (1e-9);
+# 4. a cases file with a good case, a value the parameter checks refuse
+#    and a contact solver that cannot converge, on 2 ranks: exit code 1,
+#    the good case done, the others failed with their reasons;
+# 5. a path the base file does not have: one message with the study file's
+#    line, the case, the entry and the value; exit code 1;
+# 6. design variants (generator.prm): meshes/gen/tkr_variant.py meshes
+#    each case; R_ts = 55 reproduces the bundled TKR A mesh byte for byte
+#    and its flexion axis, R_ts = 70 runs and wears differently.
+set -u
+exe=$1
+mpiexec=$2
+here=$(cd "$(dirname "$0")" && pwd)
+data=$here/study
+work=$(pwd)/study_test
+rm -rf "$work"
+mkdir -p "$work"
+cd "$work" || exit 1
+fail() {
+  echo "study_test: $*"
+  exit 1
+}
+compare() { # DIR REFERENCE_DIR FILE...
+  "$here/compare-files.sh" --relative 1e-9 "$@" || fail "$1 differs from $2"
+}
+cases="case-0000 case-0001 case-0002 case-0003"
+
+# 1.
+"$mpiexec" -np 2 "$exe" "$data/grid.prm" > grid2.log 2>&1 ||
+  { cat grid2.log; fail "the grid on 2 ranks failed"; }
+cat grid2.log
+mv grid grid2
+"$exe" "$data/grid.prm" > grid1.log 2>&1 ||
+  { cat grid1.log; fail "the grid on 1 rank failed"; }
+mv grid grid1
+compare grid2 grid1 study.csv
+printf 'include %s\nsubsection Study\n  set Ranks per case = 2\nend\n' "$data/grid.prm" > pairs.prm
+"$mpiexec" -np 2 "$exe" pairs.prm > pairs.log 2>&1 ||
+  { cat pairs.log; fail "the grid with 2 ranks per case failed"; }
+grep "1 group(s) of 2 rank(s)" pairs.log || fail "not one group of 2 ranks"
+compare grid grid1 study.csv
+echo "study_test: 1. the grid on 2 ranks (1 or 2 ranks per case) = on 1 rank (study.csv, 1e-9)"
+
+# 2.
+for c in $cases; do
+  cp "grid2/$c/case.prm" "single-$c.prm"
+  printf 'subsection Output\n  set Directory = single/%s\nend\n' "$c" >> "single-$c.prm"
+  "$exe" "single-$c.prm" > "single-$c.log" 2>&1 ||
+    { tail -5 "single-$c.log"; fail "$c alone failed"; }
+  compare "grid2/$c" "single/$c" summary.json steps.csv wear_history.csv
+done
+echo "study_test: 2. every case of the study = its case.prm run alone (summary.json, steps.csv, wear_history.csv, 1e-9)"
+cp grid2/case-0000/case.prm plain.prm
+printf 'subsection Gait\n  set Femur AP offset = 0\nend\n' >> plain.prm
+printf 'subsection Output\n  set Directory = plain\nend\n' >> plain.prm
+"$exe" plain.prm > plain.log 2>&1 || fail "case-0000 without the femur offset failed"
+python3 - "$here/../../data/iso14243-1.csv" << 'EOF'
+import csv, json, sys
+def summary(c):
+    return json.load(open("grid2/%s/summary.json" % c))
+def steps(d):
+    return list(csv.DictReader(open(d + "/steps.csv")))
+ratio = [summary(b)["mass_loss_mg"] / summary(a)["mass_loss_mg"]
+         for a, b in (("case-0000", "case-0002"), ("case-0001", "case-0003"))]
+print("study_test: mass loss k = 2e-7 / k = 1e-7: %.4f, %.4f" % tuple(ratio))
+ok = all(1.9 <= r <= 2.1 for r in ratio)
+study, plain = steps("grid2/case-0000"), steps("plain")
+table = {float(r["percent_cycle"]): float(r["axial_force_N"])
+         for r in csv.DictReader(l for l in open(sys.argv[1])
+                                 if not l.startswith("#"))}
+scale = max(abs(float(s["axial_force_N"]) / table[float(s["percent"])] - 0.9)
+            for s in study)
+print("study_test: axial force / base axial force - 0.9: max %.2g" % scale)
+ok = ok and scale < 1e-9
+shift = [float(p["ap_position_mm"]) - float(s["ap_position_mm"])
+         for s, p in zip(study, plain)]
+print("study_test: tibia moved posteriorly by the femur AP offset 0.5 mm "
+      "(case-0000 against itself without the offset): "
+      "%.3f to %.3f mm" % (min(shift), max(shift)))
+ok = ok and all(0 < d < 0.5 for d in shift)
+sys.exit(0 if ok else 1)
+EOF
+[ $? -eq 0 ] || fail "the inputs' physics"
+
+# 3.
+rm -rf grid
+"$exe" "$data/grid.prm" > interrupted.log 2>&1 &
+pid=$!
+for _ in $(seq 1 3000); do
+  [ -f grid/case-0001/checkpoint.h5 ] && { kill -9 "$pid"; break; }
+  kill -0 "$pid" 2> /dev/null || break
+  sleep 0.02
+done
+wait "$pid" 2> /dev/null
+[ $? -eq 137 ] || fail "the study was not killed while case-0001 ran"
+[ -f grid/case-0001/status.json ] && fail "case-0001 finished before the kill"
+"$mpiexec" -np 2 "$exe" --resume "$data/grid.prm" > resumed.log 2>&1 ||
+  { cat resumed.log; fail "the resumed study failed"; }
+grep -q "resumed" resumed.log || fail "the study did not say it resumed"
+grep -q '"resumed": true' grid/case-0001/status.json ||
+  fail "case-0001 did not resume from its checkpoint"
+grep -q '"resumed": false' grid/case-0000/status.json ||
+  fail "case-0000 was run again"
+compare grid grid1 study.csv
+for c in $cases; do
+  compare "grid/$c" "grid1/$c" summary.json steps.csv wear_history.csv
+done
+echo "study_test: 3. killed during case-0001, resumed on 2 ranks (case-0000 kept, case-0001 from its checkpoint): the uninterrupted results (1e-9)"
+
+# 4.
+"$mpiexec" -np 2 "$exe" "$data/fail.prm" > fail.log 2>&1
+status=$?
+cat fail.log | grep -v "^---\|^Primary\|^mpirun\|^  Process\|^  Exit\|^the job\|^$\|abort"
+[ $status -ne 0 ] || fail "a study with failed cases exited with 0"
+python3 - << 'EOF' || fail "4. the failed cases"
+import csv, sys
+rows = {r["case"]: r for r in csv.DictReader(open("fail/study.csv"))}
+ok = (rows["case-0000"]["status"] == "done"
+      and float(rows["case-0000"]["mass_loss_mg"]) > 0
+      and rows["case-0001"]["status"] == "failed"
+      and "Poisson's ratio" in rows["case-0001"]["reason"]
+      and "0.7" in rows["case-0001"]["reason"]
+      and rows["case-0002"]["status"] == "failed"
+      and "did not converge" in rows["case-0002"]["reason"])
+sys.exit(0 if ok else 1)
+EOF
+echo "study_test: 4. one failed input and one failed solve recorded with their reasons, the good case done, exit code $status"
+
+# 5.
+if "$exe" "$data/wrong.prm" > wrong.log 2>&1; then
+  fail "a wrong entry path was accepted"
+fi
+cat wrong.log
+grep -q "wrong.prm:4: case-0000 sets <Wear/Wear coeficient> = <1e-7>" wrong.log ||
+  fail "5. unexpected message"
+echo "study_test: 5. a wrong path refused with file:line, case, entry and value"
+# 6.
+"$mpiexec" -np 2 "$exe" "$data/generator.prm" > generator.log 2>&1 ||
+  { cat generator.log; fail "6. the design variants failed"; }
+cat generator.log
+cmp -s generator/case-0000/mesh.msh "$here/../../meshes/tkr/tkr-a-coarse.msh" ||
+  fail "6. R_ts = 55 did not reproduce meshes/tkr/tkr-a-coarse.msh"
+grep -q "Flexion axis point = 0, -2, 53.001" generator/case-0000/mesh.prm ||
+  fail "6. the flexion axis of TKR A"
+python3 - << 'EOF'
+import csv, sys
+rows = {r["case"]: r for r in csv.DictReader(open("generator/study.csv"))}
+a, b = (float(rows[c]["mass_loss_mg"]) for c in ("case-0000", "case-0001"))
+print("study_test: mass loss R_ts = 55: %.4f mg, R_ts = 70: %.4f mg" % (a, b))
+sys.exit(0 if rows["case-0001"]["status"] == "done" and a != b else 1)
+EOF
+[ $? -eq 0 ] || fail "6. the variants' results"
+echo "study_test: 6. design variants meshed per case by meshes/gen/tkr_variant.py (R_ts = 55 gives the bundled TKR A mesh and flexion axis)"
+echo "study_test: passed"
