@@ -7,7 +7,9 @@
 #include <tkr/base/exceptions.h>
 #include <tkr/base/mpi.h>
 
+#include <chrono>
 #include <string>
+#include <thread>
 
 namespace TKR
 {
@@ -38,6 +40,55 @@ namespace TKR
         }
     error = dealii::Utilities::MPI::broadcast(communicator, error, 0);
     AssertThrow(error.empty(), ExcInputError(error));
+  }
+
+  void
+  in_turn(const std::function<void()> &work, const MPI_Comm communicator)
+  {
+    const unsigned int n_ranks =
+      dealii::Utilities::MPI::n_mpi_processes(communicator);
+    const unsigned int rank =
+      dealii::Utilities::MPI::this_mpi_process(communicator);
+    std::string error;
+    for (unsigned int turn = 0; turn < n_ranks; ++turn)
+      {
+        if (turn == rank)
+          try
+            {
+              work();
+            }
+          catch (const ExcInputError &exc)
+            {
+              error = exception_message(exc);
+            }
+        const int ierr = MPI_Barrier(communicator);
+        AssertThrowMPI(ierr);
+      }
+    for (const auto &message :
+         dealii::Utilities::MPI::all_gather(communicator, error))
+      AssertThrow(message.empty(), ExcInputError(message));
+  }
+
+  bool
+  all_ranks_arrive(const MPI_Comm communicator, const double seconds)
+  {
+    MPI_Request request;
+    int         ierr = MPI_Ibarrier(communicator, &request);
+    AssertThrowMPI(ierr);
+    const auto start = std::chrono::steady_clock::now();
+    for (;;)
+      {
+        int arrived = 0;
+        ierr        = MPI_Test(&request, &arrived, MPI_STATUS_IGNORE);
+        AssertThrowMPI(ierr);
+        if (arrived)
+          return true;
+        const std::chrono::duration<double> waited =
+          std::chrono::steady_clock::now() - start;
+        if (waited.count() > seconds)
+          return false;
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      }
   }
 
   StepGroups::StepGroups(const MPI_Comm world, const unsigned int requested)

@@ -440,63 +440,108 @@ namespace TKR::Output
       mpi_communicator);
   }
 
+  namespace
+  {
+    /**
+     * Throw ExcInputError if HDF5 cannot open @p filename for reading and
+     * writing (as deal.II's HDF5::File does), e.g. because another process
+     * holds its lock: deal.II's wrappers do not check, and every read
+     * would return garbage.
+     */
+    void
+    check_can_open(const std::string &filename)
+    {
+      H5E_auto2_t report;
+      void       *report_data;
+      H5Eget_auto2(H5E_DEFAULT, &report, &report_data);
+      H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+      const hid_t file = H5Fopen(filename.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+      H5Eset_auto2(H5E_DEFAULT, report, report_data);
+      AssertThrow(file >= 0,
+                  ExcInputError("Cannot open the checkpoint <" + filename +
+                                "> with HDF5 (not an HDF5 file, not "
+                                "writable, or locked by another process)."));
+      H5Fclose(file);
+    }
+
+    /** The checkpoint @p filename, read by this rank alone. */
+    Wear::WearRunState
+    read_checkpoint_file(const std::string               &filename,
+                         const unsigned int               n_vertices,
+                         const unsigned int               n_steps,
+                         const Parameters::AllParameters &parameters)
+    {
+      check_can_open(filename);
+      // Every error is caught while the file is open and thrown after it is
+      // closed: deal.II's HDF5 objects abort the program if they are
+      // destroyed during stack unwinding.
+      Wear::WearRunState state;
+      std::string        error;
+      try
+        {
+          HDF5::File file(filename, HDF5::File::FileAccessMode::open);
+          try
+            {
+              check_origin(file, filename, parameters);
+              AssertThrow(
+                file.get_attribute<unsigned int>("n_vertices") == n_vertices &&
+                  file.get_attribute<unsigned int>("n_steps") == n_steps,
+                ExcInputError("The checkpoint <" + filename +
+                              "> belongs to another mesh or gait (vertices, "
+                              "steps per cycle) than the parameter file."));
+              read_counters(file, state);
+              state.displacement =
+                unflatten(read_dataset<double>(file, "displacement"));
+              state.stiffness_displacement =
+                unflatten(read_dataset<double>(file, "stiffness_displacement"));
+              state.depth        = read_dataset<double>(file, "depth");
+              state.step_starts  = read_step_starts(file, n_steps);
+              state.history      = read_history(file);
+              state.failed_steps = read_failed_steps(file);
+            }
+          catch (const ExcInputError &exc)
+            {
+              error = exception_message(exc);
+            }
+          catch (const std::exception &exc)
+            {
+              error =
+                "Cannot read the checkpoint <" + filename + ">: " + exc.what();
+            }
+        }
+      catch (const std::exception &exc)
+        {
+          error =
+            "Cannot read the checkpoint <" + filename + ">: " + exc.what();
+        }
+      AssertThrow(error.empty(), ExcInputError(error));
+      AssertThrow(state.depth.size() == n_vertices &&
+                    state.displacement.size() == n_vertices,
+                  ExcInputError("The checkpoint <" + filename +
+                                "> is incomplete."));
+      return state;
+    }
+  } // namespace
+
   Wear::WearRunState
   read_checkpoint(const std::string               &directory,
                   const unsigned int               n_vertices,
                   const unsigned int               n_steps,
-                  const Parameters::AllParameters &parameters)
+                  const Parameters::AllParameters &parameters,
+                  const MPI_Comm                   mpi_communicator)
   {
-    const std::string filename = checkpoint_file(directory);
-    AssertThrow(std::filesystem::exists(filename),
-                ExcInputError("--resume: there is no checkpoint <" + filename +
-                              "> (Output/Checkpoint interval > 0 writes "
-                              "one every that many blocks)."));
-    // Every error is caught while the file is open and thrown after it is
-    // closed: deal.II's HDF5 objects abort the program if they are
-    // destroyed during stack unwinding.
+    const std::string  filename = checkpoint_file(directory);
     Wear::WearRunState state;
-    std::string        error;
-    try
-      {
-        HDF5::File file(filename, HDF5::File::FileAccessMode::open);
-        try
-          {
-            check_origin(file, filename, parameters);
-            AssertThrow(
-              file.get_attribute<unsigned int>("n_vertices") == n_vertices &&
-                file.get_attribute<unsigned int>("n_steps") == n_steps,
-              ExcInputError("The checkpoint <" + filename +
-                            "> belongs to another mesh or gait (vertices, "
-                            "steps per cycle) than the parameter file."));
-            read_counters(file, state);
-            state.displacement =
-              unflatten(read_dataset<double>(file, "displacement"));
-            state.stiffness_displacement =
-              unflatten(read_dataset<double>(file, "stiffness_displacement"));
-            state.depth        = read_dataset<double>(file, "depth");
-            state.step_starts  = read_step_starts(file, n_steps);
-            state.history      = read_history(file);
-            state.failed_steps = read_failed_steps(file);
-          }
-        catch (const ExcInputError &exc)
-          {
-            error = exception_message(exc);
-          }
-        catch (const std::exception &exc)
-          {
-            error =
-              "Cannot read the checkpoint <" + filename + ">: " + exc.what();
-          }
-      }
-    catch (const std::exception &exc)
-      {
-        error = "Cannot read the checkpoint <" + filename + ">: " + exc.what();
-      }
-    AssertThrow(error.empty(), ExcInputError(error));
-    AssertThrow(state.depth.size() == n_vertices &&
-                  state.displacement.size() == n_vertices,
-                ExcInputError("The checkpoint <" + filename +
-                              "> is incomplete."));
+    in_turn(
+      [&]() {
+        AssertThrow(std::filesystem::exists(filename),
+                    ExcInputError("--resume: there is no checkpoint <" +
+                                  filename +
+                                  "> (Output/Checkpoint interval > 0 writes "
+                                  "one every that many blocks)."));
+        state = read_checkpoint_file(filename, n_vertices, n_steps, parameters);
+      },
+      mpi_communicator);
     return state;
   }
 } // namespace TKR::Output

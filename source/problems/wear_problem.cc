@@ -45,7 +45,8 @@ namespace TKR::Problems
     state = Output::read_checkpoint(directory,
                                     model.triangulation().n_vertices(),
                                     cycle.n_steps(),
-                                    parameters);
+                                    parameters,
+                                    model.world());
     model.geometry().set_vertex_displacements(state.displacement,
                                               state.stiffness_displacement);
     model.geometry().set_wear_depth(state.depth);

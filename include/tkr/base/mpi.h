@@ -28,6 +28,27 @@ namespace TKR
   on_root(const std::function<void()> &work, const MPI_Comm communicator);
 
   /**
+   * Run @p work on every rank of @p communicator, one rank after another
+   * (e.g. opening a file that takes an exclusive lock, such as an HDF5 file
+   * opened by deal.II's HDF5::File), and raise the first ExcInputError any
+   * rank raised on every rank, so that an error on one rank alone cannot
+   * leave the others waiting.
+   */
+  void
+  in_turn(const std::function<void()> &work, const MPI_Comm communicator);
+
+  /**
+   * Whether every rank of @p communicator calls this within @p seconds (a
+   * non-blocking barrier, polled). After an error on this rank it tells
+   * whether the other ranks raised it too (an input error every rank reads
+   * the same way) or wait for this one in a collective operation, which
+   * only MPI_Abort() ends. @p communicator must be used for nothing else
+   * (a duplicate of the world communicator made at start-up).
+   */
+  bool
+  all_ranks_arrive(const MPI_Comm communicator, const double seconds);
+
+  /**
    * The split of the ranks of a communicator into groups that share
    * independent work items, e.g. the steps of a gait cycle (rank r is in
    * group r * n_groups / n_ranks; group g does the items g, g + n_groups,

@@ -46,8 +46,11 @@ namespace TKR::Output
                    const MPI_Comm                   mpi_communicator);
 
   /**
-   * Read the checkpoint of @p directory (on every rank). Throws
-   * ExcInputError naming the file if it does not exist, cannot be read,
+   * Read the checkpoint of @p directory on every rank of
+   * @p mpi_communicator, one rank after another (deal.II opens an HDF5
+   * file for reading and writing, under an exclusive lock: ranks that open
+   * it at once fail). Throws ExcInputError on every rank, naming the file,
+   * if it does not exist, cannot be opened or read,
    * does not fit a mesh with @p n_vertices vertices and a gait of
    * @p n_steps steps, or was written with other state_parameters() than
    * those of @p parameters (naming the first entry that differs).
@@ -56,7 +59,8 @@ namespace TKR::Output
   read_checkpoint(const std::string               &directory,
                   const unsigned int               n_vertices,
                   const unsigned int               n_steps,
-                  const Parameters::AllParameters &parameters);
+                  const Parameters::AllParameters &parameters,
+                  const MPI_Comm                   mpi_communicator);
 } // namespace TKR::Output
 
 #endif
