@@ -14,19 +14,11 @@
 #include <tkr/problems/study_problem.h>
 #include <tkr/problems/wear_problem.h>
 
-#include <cstdlib>
 #include <iostream>
 #include <string>
 
 namespace
 {
-  /**
-   * How long a rank that raised an input error waits for the others to
-   * raise it too before it ends the run (MPI_Abort): ranks that read the
-   * same input fail within a fraction of a second of each other.
-   */
-  constexpr double error_grace_seconds = 30;
-
   void
   print_usage(std::ostream &out)
   {
@@ -49,14 +41,6 @@ namespace
       const MPI_Comm     mpi_communicator)
   {
     using namespace TKR;
-    // Test only (tests/cli: one_rank_error): an input error raised on one
-    // rank alone, as a rank-local failure would be, while the others go on.
-    if (const char *rank = std::getenv("TKR_TEST_ERROR_ON_RANK"))
-      AssertThrow(std::to_string(dealii::Utilities::MPI::this_mpi_process(
-                    mpi_communicator)) != rank,
-                  ExcInputError("TKR_TEST_ERROR_ON_RANK: an error raised on "
-                                "rank " +
-                                std::string(rank) + " alone."));
     const Parameters::AllParameters parameters =
       Parameters::read_parameters(filename);
     AssertThrow(!resume ||
@@ -136,12 +120,12 @@ main(int argc, char *argv[])
       // error raised on some ranks only would leave the others waiting
       // forever in their next collective operation: after a grace time for
       // the others to raise it too, this rank says so and ends the run.
-      if (!TKR::all_ranks_arrive(error_communicator, error_grace_seconds))
+      if (!TKR::all_ranks_arrive(error_communicator, TKR::error_grace_seconds))
         {
           std::cerr << "tkr-wear: error on rank "
                     << Utilities::MPI::this_mpi_process(mpi_communicator)
                     << " (the other ranks did not raise it within "
-                    << error_grace_seconds
+                    << TKR::error_grace_seconds
                     << " s; ending them): " << TKR::exception_message(exc)
                     << std::endl;
           MPI_Abort(mpi_communicator, 1);

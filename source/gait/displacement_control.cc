@@ -314,11 +314,11 @@ namespace TKR::Gait
   double
   DisplacementControl::load_balance(const StepReport &report) const
   {
-    const double axial = gait_state(report.input).axial_force;
-    const double bound =
-      parameters.axial_stabilisation_spring * parameters.pose_tolerance +
-      1e-3 * std::abs(axial);
-    return std::abs(report.contact_resultant[2] + axial) / bound;
+    // 0.1 % of the axial force: a jump in z's correction at fixed x (see
+    // solve_pose()).
+    return tibia_pose.axial_balance(gait_state(report.input).axial_force,
+                                    report.contact_resultant,
+                                    1e-3);
   }
 
   std::vector<std::string>

@@ -179,7 +179,8 @@ namespace TKR::Gait
   ForceControl::load_balance(const StepReport &report) const
   {
     return tibia_pose.axial_balance(gait_state(report.input).axial_force,
-                                    report.contact_resultant);
+                                    report.contact_resultant,
+                                    1e-6);
   }
 
   std::vector<std::string>

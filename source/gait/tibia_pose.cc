@@ -309,11 +309,12 @@ namespace TKR::Gait
 
   double
   TibiaPose::axial_balance(const double        axial_force,
-                           const Tensor<1, 3> &contact_resultant) const
+                           const Tensor<1, 3> &contact_resultant,
+                           const double        relative_allowance) const
   {
     const double bound =
       parameters.axial_stabilisation_spring * parameters.pose_tolerance +
-      1e-6 * std::abs(axial_force);
+      relative_allowance * std::abs(axial_force);
     return std::abs(contact_resultant[2] + axial_force) / bound;
   }
 

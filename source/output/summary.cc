@@ -6,6 +6,7 @@
 #include <tkr/output/summary.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -13,30 +14,28 @@
 
 namespace TKR::Output
 {
-  namespace
+  std::string
+  json_string(const std::string &text)
   {
-    std::string
-    quote(const std::string &text)
-    {
-      std::string result = "\"";
-      for (const char c : text)
-        switch (c)
-          {
-            case '"':
-              result += "\\\"";
-              break;
-            case '\\':
-              result += "\\\\";
-              break;
-            case '\n':
-              result += "\\n";
-              break;
-            default:
-              result += c;
-          }
-      return result + "\"";
-    }
-  } // namespace
+    std::string result = "\"";
+    for (const char c : text)
+      if (c == '"' || c == '\\')
+        result += std::string("\\") + c;
+      else if (c == '\n')
+        result += "\\n";
+      else if (static_cast<unsigned char>(c) < 0x20)
+        {
+          char escaped[7];
+          std::snprintf(escaped,
+                        sizeof(escaped),
+                        "\\u%04x",
+                        static_cast<unsigned int>(c));
+          result += escaped;
+        }
+      else
+        result += c;
+    return result + "\"";
+  }
 
   void
   Summary::set_raw(const std::string &key, const std::string &json_value)
@@ -77,8 +76,8 @@ namespace TKR::Output
       {
         json += (r > 0 ? ", {" : "{");
         for (unsigned int i = 0; i < records[r].size(); ++i)
-          json += (i > 0 ? ", " : "") + quote(records[r][i].first) + ": " +
-                  number(records[r][i].second);
+          json += (i > 0 ? ", " : "") + json_string(records[r][i].first) +
+                  ": " + number(records[r][i].second);
         json += "}";
       }
     set_raw(key, json + "]");
@@ -111,7 +110,7 @@ namespace TKR::Output
   void
   Summary::set(const std::string &key, const std::string &value)
   {
-    set_raw(key, quote(value));
+    set_raw(key, json_string(value));
   }
 
   void
@@ -125,7 +124,7 @@ namespace TKR::Output
   {
     std::string json = "{\n";
     for (unsigned int i = 0; i < entries.size(); ++i)
-      json += "  " + quote(entries[i].first) + ": " + entries[i].second +
+      json += "  " + json_string(entries[i].first) + ": " + entries[i].second +
               (i + 1 < entries.size() ? ",\n" : "\n");
     return json + "}\n";
   }

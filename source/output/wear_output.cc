@@ -282,20 +282,33 @@ namespace TKR::Output
              const std::string &measured_file,
              const MPI_Comm     mpi_communicator)
   {
+    std::vector<std::string> arguments = {directory};
+    if (!measured_file.empty())
+      arguments.insert(arguments.end(), {"--measured", measured_file});
+    return run_script("plot-wear",
+                      arguments,
+                      directory + "/plot-wear.log",
+                      mpi_communicator);
+  }
+
+  std::string
+  run_script(const std::string              &script,
+             const std::vector<std::string> &arguments,
+             const std::string              &log_file,
+             const MPI_Comm                  mpi_communicator)
+  {
     std::string error;
     if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
       {
-        const std::string script =
-          std::string(TKR_SOURCE_DIR) + "/scripts/plot-wear";
-        std::string command = "'" + script + "' '" + directory + "'";
-        if (!measured_file.empty())
-          command += " --measured '" + measured_file + "'";
-        command += " > '" + directory + "/plot-wear.log' 2>&1";
+        std::string command =
+          "'" + std::string(TKR_SOURCE_DIR) + "/scripts/" + script + "'";
+        for (const auto &argument : arguments)
+          command += " '" + argument + "'";
+        command += " > '" + log_file + "' 2>&1";
         const int status = std::system(command.c_str());
         if (status != 0)
-          error = "scripts/plot-wear failed (exit status " +
-                  std::to_string(status) + "), see <" + directory +
-                  "/plot-wear.log>";
+          error = "scripts/" + script + " failed (exit status " +
+                  std::to_string(status) + "), see <" + log_file + ">";
       }
     return Utilities::MPI::broadcast(mpi_communicator, error, 0);
   }

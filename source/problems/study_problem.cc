@@ -4,6 +4,8 @@
 #include <deal.II/base/mpi.h>
 
 #include <tkr/base/exceptions.h>
+#include <tkr/output/summary.h>
+#include <tkr/output/wear_output.h>
 #include <tkr/problems/study_problem.h>
 #include <tkr/problems/wear_problem.h>
 
@@ -32,20 +34,6 @@ namespace TKR::Problems
                                                   "lateral_mass_loss_mg",
                                                   "max_pressure_MPa",
                                                   "contact_solves"};
-
-    std::string
-    json_string(const std::string &text)
-    {
-      std::string out = "\"";
-      for (const char c : text)
-        if (c == '"' || c == '\\')
-          out += std::string("\\") + c;
-        else if (c == '\n')
-          out += "\\n";
-        else if (static_cast<unsigned char>(c) >= 0x20)
-          out += c;
-      return out + "\"";
-    }
 
     std::string
     csv_field(const std::string &text)
@@ -233,7 +221,8 @@ namespace TKR::Problems
                 ExcInputError("Problem = study needs Study/Base parameter "
                               "file: the wear run whose variants the cases "
                               "are."));
-    base = Parameters::read_parameters(parameters.study.base_file);
+    const Parameters::AllParameters base =
+      Parameters::read_parameters(parameters.study.base_file);
     AssertThrow(base.problem == Parameters::ProblemType::wear,
                 ExcInputError(
                   "Study/Base parameter file <" + parameters.study.base_file +
@@ -318,36 +307,40 @@ namespace TKR::Problems
       mpi_communicator);
 
     const StepGroups group(mpi_communicator, n_groups);
+    // Used by nothing but the check after a case's error (run_case()).
+    MPI_Comm  error_communicator;
+    const int ierr = MPI_Comm_dup(group.communicator, &error_communicator);
+    AssertThrowMPI(ierr);
     {
       CaseQueue queue(mpi_communicator, n_groups > 1);
       for (unsigned int index = queue.next(group); index < cases.size();
            index              = queue.next(group))
-        run_case(index, group);
+        run_case(index, group, error_communicator);
     }
+    MPI_Comm_free(&error_communicator);
 
     MPI_Barrier(mpi_communicator);
     unsigned int n_failed = 0;
     if (is_root)
-      {
-        n_failed = output_results();
-        if (parameters.output.plots)
-          {
-            const std::string command =
-              "'" + std::string(TKR_SOURCE_DIR) + "/scripts/plot-study' '" +
-              parameters.output.directory + "' > '" +
-              parameters.output.directory + "/plot-study.log' 2>&1";
-            if (std::system(command.c_str()) != 0)
-              std::cout << "Warning: scripts/plot-study failed, see <"
-                        << parameters.output.directory << "/plot-study.log>"
-                        << std::endl;
-          }
-      }
+      n_failed = output_results();
     n_failed = Utilities::MPI::broadcast(mpi_communicator, n_failed, 0);
+    if (parameters.output.plots)
+      {
+        const std::string error =
+          Output::run_script("plot-study",
+                             {parameters.output.directory},
+                             parameters.output.directory + "/plot-study.log",
+                             mpi_communicator);
+        if (is_root && !error.empty())
+          std::cout << "Warning: " << error << std::endl;
+      }
     return n_failed == 0;
   }
 
   void
-  StudyProblem::run_case(const unsigned int index, const StepGroups &group)
+  StudyProblem::run_case(const unsigned int index,
+                         const StepGroups  &group,
+                         const MPI_Comm     error_communicator)
   {
     const std::string directory   = case_directory(index);
     const std::string status_file = directory + "/status.json";
@@ -360,6 +353,9 @@ namespace TKR::Problems
     const double start   = MPI_Wtime();
     std::string  status  = "done", reason;
     bool         resumed = false;
+    // Whether the case failed by its run's result (the same on every rank)
+    // rather than by an exception.
+    bool problem_failed = false;
     {
       CaseOutput output(directory + "/log.txt", group.is_group_root);
       try
@@ -395,7 +391,8 @@ namespace TKR::Problems
           WearProblem problem(case_parameters, group.communicator, resumed);
           if (!problem.run())
             {
-              status = "failed";
+              problem_failed = true;
+              status         = "failed";
               reason = "a contact solve, pose iteration or load balance did "
                        "not converge (log.txt; summary.json lists the "
                        "steps)";
@@ -419,13 +416,27 @@ namespace TKR::Problems
       if (!reason.empty())
         std::cout << cases[index].name << ": " << reason << std::endl;
     }
+    // An error raised on some ranks of the group only leaves the others
+    // waiting in the case forever (they hold no exception): end the study
+    // (the cases done stay done; --resume continues it).
+    if (status == "failed" && !problem_failed &&
+        !all_ranks_arrive(error_communicator, error_grace_seconds))
+      {
+        std::cerr << "tkr-wear: " << cases[index].name << ": error on rank "
+                  << Utilities::MPI::this_mpi_process(mpi_communicator)
+                  << " that the other ranks of its group did not raise "
+                     "within "
+                  << error_grace_seconds << " s; ending the study (--resume "
+                  << "continues it): " << reason << std::endl;
+        MPI_Abort(mpi_communicator, 1);
+      }
     const double wall_time = MPI_Wtime() - start;
     if (!group.is_group_root)
       return;
     std::ostringstream json;
-    json << "{\n  \"case\": " << json_string(cases[index].name)
-         << ",\n  \"status\": " << json_string(status)
-         << ",\n  \"reason\": " << json_string(reason)
+    json << "{\n  \"case\": " << Output::json_string(cases[index].name)
+         << ",\n  \"status\": " << Output::json_string(status)
+         << ",\n  \"reason\": " << Output::json_string(reason)
          << ",\n  \"resumed\": " << (resumed ? "true" : "false")
          << ",\n  \"wall_time_s\": " << wall_time << "\n}\n";
     write_atomically(status_file, json.str());
@@ -458,8 +469,8 @@ namespace TKR::Problems
     if (!parameters.output.testing)
       csv << ",wall_time_s";
     csv << ",reason\n";
-    json << "{\n  \"study\": " << json_string(parameters.parameter_file)
-         << ",\n  \"base\": " << json_string(parameters.study.base_file)
+    json << "{\n  \"study\": " << Output::json_string(parameters.parameter_file)
+         << ",\n  \"base\": " << Output::json_string(parameters.study.base_file)
          << ",\n  \"cases\": [";
 
     // The screen table shows the inputs that differ between cases.
@@ -481,25 +492,25 @@ namespace TKR::Problems
           ++n_failed;
         csv << cases[i].name;
         json << (i == 0 ? "" : ",")
-             << "\n    {\"case\": " << json_string(cases[i].name)
+             << "\n    {\"case\": " << Output::json_string(cases[i].name)
              << ", \"inputs\": {";
         for (unsigned int j = 0; j < cases[i].inputs.size(); ++j)
           {
             csv << "," << csv_field(cases[i].inputs[j].second);
             json << (j == 0 ? "" : ", ")
-                 << json_string(cases[i].inputs[j].first) << ": "
-                 << json_string(cases[i].inputs[j].second);
+                 << Output::json_string(cases[i].inputs[j].first) << ": "
+                 << Output::json_string(cases[i].inputs[j].second);
           }
         csv << "," << status["status"];
-        json << "}, \"status\": " << json_string(status["status"])
-             << ", \"reason\": " << json_string(status["reason"]);
+        json << "}, \"status\": " << Output::json_string(status["status"])
+             << ", \"reason\": " << Output::json_string(status["reason"]);
         for (const std::string &key : result_keys)
           {
             const std::string value =
               status["status"] == "done" ? summary[key] : "";
             csv << "," << value;
             if (!value.empty())
-              json << ", " << json_string(key) << ": " << value;
+              json << ", " << Output::json_string(key) << ": " << value;
           }
         if (!parameters.output.testing)
           {

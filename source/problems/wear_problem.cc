@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <iomanip>
 #include <limits>
@@ -536,6 +537,15 @@ namespace TKR::Problems
     const auto &parameters = model.parameters();
     const auto &wear       = parameters.wear;
     model.start("knee-simulator wear test");
+    // Test only (cli/one_rank_error, scripts/study): an input error raised
+    // on one rank alone, as a rank-local failure would be, while the others
+    // go on into the set-up.
+    if (const char *rank = std::getenv("TKR_TEST_ERROR_ON_RANK"))
+      AssertThrow(std::to_string(
+                    Utilities::MPI::this_mpi_process(MPI_COMM_WORLD)) != rank,
+                  ExcInputError("TKR_TEST_ERROR_ON_RANK: an error raised on "
+                                "rank " +
+                                std::string(rank) + " alone."));
     AssertThrow(parameters.mesh.fe_degree == 1,
                 ExcInputError(
                   "Problem = wear needs Finite element degree = 1."));

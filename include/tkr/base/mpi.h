@@ -49,6 +49,14 @@ namespace TKR
   all_ranks_arrive(const MPI_Comm communicator, const double seconds);
 
   /**
+   * How long a rank that raised an error waits for the other ranks to raise
+   * it too (all_ranks_arrive()) before it ends the run with MPI_Abort():
+   * ranks that read the same input fail within a fraction of a second of
+   * each other.
+   */
+  constexpr double error_grace_seconds = 30;
+
+  /**
    * The split of the ranks of a communicator into groups that share
    * independent work items, e.g. the steps of a gait cycle (rank r is in
    * group r * n_groups / n_ranks; group g does the items g, g + n_groups,

@@ -172,11 +172,13 @@ namespace TKR::Gait
      * @p axial_force: the contact alone carries the axial force; the axial
      * stabilisation spring, whose force is below its stiffness times the
      * pose tolerance once the pose has converged, and the contact solver's
-     * tolerance bound the difference.
+     * tolerance (@p relative_allowance times the axial force) bound the
+     * difference.
      */
     double
     axial_balance(const double                axial_force,
-                  const dealii::Tensor<1, 3> &contact_resultant) const;
+                  const dealii::Tensor<1, 3> &contact_resultant,
+                  const double                relative_allowance) const;
 
     /** The inferior motion from the observations of motion_observations(). */
     static InferiorMotion

@@ -61,6 +61,13 @@ namespace TKR::Output
   void
   create_directory(const std::string &directory,
                    const MPI_Comm     mpi_communicator);
+
+  /**
+   * @p text as a JSON string: quoted, with quotes, backslashes and control
+   * characters escaped.
+   */
+  std::string
+  json_string(const std::string &text);
 } // namespace TKR::Output
 
 #endif

@@ -122,6 +122,17 @@ namespace TKR::Output
                  const MPI_Comm                mpi_communicator);
 
   /**
+   * Run scripts/@p script of the sources with @p arguments (each quoted)
+   * on rank 0 of @p mpi_communicator, its output into @p log_file. Returns
+   * (on every rank) an empty string on success, else what went wrong.
+   */
+  std::string
+  run_script(const std::string              &script,
+             const std::vector<std::string> &arguments,
+             const std::string              &log_file,
+             const MPI_Comm                  mpi_communicator);
+
+  /**
    * Run scripts/plot-wear on @p directory (rank 0): mass_loss.png with the
    * points of @p measured_file (if not empty) and wear_map.png. Returns an
    * empty string on success, else what went wrong (the caller warns: the

@@ -44,7 +44,9 @@ namespace TKR::Problems
   private:
     /** Run case @p index on this group; its status record. */
     void
-    run_case(const unsigned int index, const StepGroups &group);
+    run_case(const unsigned int index,
+             const StepGroups  &group,
+             const MPI_Comm     error_communicator);
 
     /** study.csv, study.json and the screen table (rank 0). */
     unsigned int
@@ -61,7 +63,6 @@ namespace TKR::Problems
     const MPI_Comm                  mpi_communicator;
     const bool                      resume;
     const bool                      is_root;
-    Parameters::AllParameters       base;
     std::vector<StudyCase>          cases;
   };
 } // namespace TKR::Problems
