@@ -471,6 +471,11 @@ namespace TKR::Output
                          const unsigned int               n_steps,
                          const Parameters::AllParameters &parameters)
     {
+      AssertThrow(std::filesystem::exists(filename),
+                  ExcInputError("--resume: there is no checkpoint <" +
+                                filename +
+                                "> (Output/Checkpoint interval > 0 writes "
+                                "one every that many blocks)."));
       check_can_open(filename);
       // Every error is caught while the file is open and thrown after it is
       // closed: deal.II's HDF5 objects abort the program if they are
@@ -534,11 +539,6 @@ namespace TKR::Output
     Wear::WearRunState state;
     in_turn(
       [&]() {
-        AssertThrow(std::filesystem::exists(filename),
-                    ExcInputError("--resume: there is no checkpoint <" +
-                                  filename +
-                                  "> (Output/Checkpoint interval > 0 writes "
-                                  "one every that many blocks)."));
         state = read_checkpoint_file(filename, n_vertices, n_steps, parameters);
       },
       mpi_communicator);

@@ -353,9 +353,6 @@ namespace TKR::Problems
     const double start   = MPI_Wtime();
     std::string  status  = "done", reason;
     bool         resumed = false;
-    // Whether the case failed by its run's result (the same on every rank)
-    // rather than by an exception.
-    bool problem_failed = false;
     {
       CaseOutput output(directory + "/log.txt", group.is_group_root);
       try
@@ -391,8 +388,7 @@ namespace TKR::Problems
           WearProblem problem(case_parameters, group.communicator, resumed);
           if (!problem.run())
             {
-              problem_failed = true;
-              status         = "failed";
+              status = "failed";
               reason = "a contact solve, pose iteration or load balance did "
                        "not converge (log.txt; summary.json lists the "
                        "steps)";
@@ -418,8 +414,9 @@ namespace TKR::Problems
     }
     // An error raised on some ranks of the group only leaves the others
     // waiting in the case forever (they hold no exception): end the study
-    // (the cases done stay done; --resume continues it).
-    if (status == "failed" && !problem_failed &&
+    // (the cases done stay done; --resume continues it). A run that did not
+    // converge fails on every rank of the group: all arrive at once.
+    if (status == "failed" &&
         !all_ranks_arrive(error_communicator, error_grace_seconds))
       {
         std::cerr << "tkr-wear: " << cases[index].name << ": error on rank "
