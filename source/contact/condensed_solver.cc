@@ -283,20 +283,8 @@ namespace TKR::Contact
                                   const double               initial_distance,
                                   ContactState              &state)
   {
-    AssertThrow(!basis_columns.empty() &&
-                  coefficients.size() + 1 == basis_columns.size(),
-                ExcMessage("Call set_load_basis() with as many loads as "
-                           "coefficients before this solve()."));
-    std::vector<double> u0(basis_columns.back().surface);
-    std::vector<double> u0_observations(basis_columns.back().observations);
-    for (unsigned int b = 0; b < coefficients.size(); ++b)
-      {
-        const Column &column = basis_columns[b];
-        for (unsigned int r = 0; r < u0.size(); ++r)
-          u0[r] += coefficients[b] * column.surface[r];
-        for (unsigned int o = 0; o < u0_observations.size(); ++o)
-          u0_observations[o] += coefficients[b] * column.observations[o];
-      }
+    std::vector<double> u0, u0_observations;
+    combine_basis(coefficients, u0, u0_observations);
     ContactStatistics statistics =
       iterate(u0, u0_observations, initial_distance, state);
     statistics.relative_residual = basis_residual;
@@ -456,17 +444,32 @@ namespace TKR::Contact
                                     const double               initial_distance,
                                     ContactState              &state)
   {
-    const unsigned int           n_slave = coupling.slave_nodes().size();
     const Mortar::MortarOperator B(coupling);
-    const Zone                   zone = make_zone(B, u0);
+    std::vector<Column>          z(coupling.slave_nodes().size());
+    return iterate(B,
+                   make_zone(B, u0),
+                   z,
+                   u0,
+                   u0_observations,
+                   initial_distance,
+                   state);
+  }
+
+  ContactStatistics
+  CondensedActiveSetSolver::iterate(const Mortar::MortarOperator &B,
+                                    const Zone                   &zone,
+                                    std::vector<Column>          &z,
+                                    const std::vector<double>    &u0,
+                                    const std::vector<double> &u0_observations,
+                                    const double               initial_distance,
+                                    ContactState              &state)
+  {
+    const unsigned int n_slave = coupling.slave_nodes().size();
     start_state(coupling, initial_distance, state);
 
     ContactStatistics  statistics;
     ActiveSetUpdate    active_set_update(pcout, slave_youngs_modulus);
     const unsigned int n_columns_before = n_stored_columns;
-    // z_i on the zone for the nodes needed so far in this solve (the
-    // geometry, and so B, is fixed within it).
-    std::vector<Column> z(n_slave);
     for (unsigned int iteration = 1; iteration <= parameters.max_iterations;
          ++iteration)
       {

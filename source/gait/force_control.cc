@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // This file is part of tkr-wear.
 
+#include <deal.II/base/numbers.h>
+
 #include <tkr/base/exceptions.h>
 #include <tkr/gait/force_control.h>
 
@@ -145,6 +147,29 @@ namespace TKR::Gait
                                   const Pose      &pose) const
   {
     return tibia_pose.load_coefficients(gait_state(input), pose_state(pose));
+  }
+
+  // Pose values (to_pose()): translation x, y, z, restraint excess force
+  // and torque, rotation. At equilibrium the inferior surface's mean
+  // displacement relative to the pose vanishes, and with it the position's
+  // share of the restraints: their excess is that of the pose itself.
+  PoseEquations
+  ForceControl::pose_equations() const
+  {
+    const double rim =
+      0.5 * gait_loads.inferior_surface().width * numbers::PI / 180.;
+    const auto    names = tibia_pose.motion_observations();
+    PoseEquations equations;
+    equations.unknowns  = {0, 1, 2, 5};
+    equations.residuals = {{names[0].first, 1.},
+                           {names[1].first, 1.},
+                           {names[2].first, 1.},
+                           {names[3].first, rim}};
+    equations.complete  = [this](Pose &pose) {
+      pose.values[3] = gait_loads.ap_restraint_excess(pose.values[1]);
+      pose.values[4] = gait_loads.ie_restraint_excess(pose.values[5]);
+    };
+    return equations;
   }
 
   PoseSolve

@@ -91,6 +91,7 @@ namespace TKR::Mortar
     std::vector<CellPoint> points;
 
     std::vector<double>                                       covered_D;
+    std::vector<dealii::Tensor<1, 3>>                         gap_gradient;
     std::vector<std::vector<std::pair<unsigned int, double>>> rows;
     std::vector<bool>                                         projects;
 

@@ -158,6 +158,7 @@ namespace TKR::Mortar
     Accumulator          accumulator;
     accumulator.faces.resize(slave.faces().size());
     accumulator.covered_D.assign(nodes.size(), 0.);
+    accumulator.gap_gradient.assign(nodes.size(), Tensor<1, 3>());
     accumulator.rows.resize(nodes.size());
     accumulator.projects.assign(nodes.size(), false);
     const unsigned int n_faces = slave.faces().size();
@@ -429,12 +430,23 @@ namespace TKR::Mortar
     for (unsigned int i = 0; i < 4; ++i)
       for (unsigned int q = 0; q < end - begin; ++q)
         accumulator.covered_D[face_nodes[i]] += weight[q] * phi[q][i];
+    // The gap gradient's n_m / (n_m . n_0) does not depend on the length
+    // or the sign of the master's area normal.
+    std::array<double, 4> n_dot_n0;
+    for (unsigned int i = 0; i < 4; ++i)
+      n_dot_n0[i] = nodes[face_nodes[i]].normal * face.n0;
     for (unsigned int c = face.first_cell; c < face.end_cell; ++c)
       {
-        double block[4][4] = {};
+        double             block[4][4] = {};
+        const BilinearQuad master_quad{
+          master.face_vertices(cells[c].master_face, positions)};
         for (unsigned int q = cells[c].begin; q < cells[c].end; ++q)
           {
             const auto N_m = BilinearQuad::shape_values(points[q].master_xi);
+            const Tensor<1, 3> a = master_quad.area_normal(points[q].master_xi);
+            const double       a_n0 = a * face.n0;
+            const Tensor<1, 3> direction =
+              std::abs(a_n0) > 1e-3 * a.norm() ? a / a_n0 : face.n0;
             for (unsigned int i = 0; i < 4; ++i)
               {
                 double psi = 0;
@@ -442,6 +454,8 @@ namespace TKR::Mortar
                   psi += A(i, k) * phi[q - begin][k];
                 for (unsigned int l = 0; l < 4; ++l)
                   block[i][l] += weight[q - begin] * psi * N_m[l];
+                accumulator.gap_gradient[face_nodes[i]] +=
+                  weight[q - begin] * psi * n_dot_n0[i] * direction;
               }
           }
         const auto &master_nodes = master.faces()[cells[c].master_face].nodes;
@@ -495,6 +509,7 @@ namespace TKR::Mortar
         const double scale = node.D / covered_D;
         for (auto &entry : node.M)
           entry.second *= scale;
+        node.gap_gradient = scale * accumulator.gap_gradient[j];
 
         const bool fully = node.covered_fraction >= 1. - 1e-9;
         node.covered     = fully || (accumulator.projects[j] &&

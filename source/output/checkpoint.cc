@@ -185,7 +185,7 @@ namespace TKR::Output
       if ((starts_with(entry, "Mesh/") && entry != "Mesh/File") ||
           starts_with(entry, "Materials/") ||
           (starts_with(entry, "Gait/") && entry != "Gait/Step groups" &&
-           entry != "Gait/Waveform file") ||
+           entry != "Gait/Waveform file" && entry != "Gait/Pose solver") ||
           (starts_with(entry, "Wear/") && entry != "Wear/Cycles" &&
            entry != "Wear/Distortion limit" &&
            entry != "Wear/Halve step on distortion" &&

@@ -134,6 +134,17 @@ namespace TKR::Parameters
                         "The tibia's pose (rigid translation) is updated "
                         "until the mean displacement of its inferior "
                         "surface is below this (mm).");
+      prm.declare_entry(
+        "Pose solver",
+        "coupled",
+        Patterns::Selection("coupled|outer"),
+        "coupled: the tibia's pose (force control: its translation and IE "
+        "rotation) and the contact pressures are the unknowns of one "
+        "semismooth Newton iteration with a line search (doc/gait.md; needs "
+        "Contact solver/Solver = condensed active set or auto). outer: "
+        "contact solves at fixed poses, each followed by an update of the "
+        "pose; what the AMG-CG active set and Control = displacement use "
+        "whatever this says.");
       prm.declare_entry("Tibial tray",
                         "rigid",
                         Patterns::Selection("rigid|free"),
@@ -261,6 +272,7 @@ namespace TKR::Parameters
       tray_flatness_tolerance    = prm.get_double("Tray flatness tolerance");
       axial_stabilisation_spring = prm.get_double("Axial stabilisation spring");
       pose_tolerance             = prm.get_double("Pose tolerance");
+      coupled_pose               = (prm.get("Pose solver") == "coupled");
       ap_force_sign              = prm.get_double("AP force sign");
       ie_torque_sign             = prm.get_double("IE torque sign");
       ap_displacement_sign       = prm.get_double("AP displacement sign");

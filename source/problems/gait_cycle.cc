@@ -218,13 +218,7 @@ namespace TKR::Problems
         narrow = false;
         couple(motion, nullptr);
       }
-    AssertThrow(model.coupling().statistics().n_covered_nodes > 0,
-                ExcInputError("Gait step " + std::to_string(step) +
-                              ": no part of tibia_contact faces "
-                              "femur_contact within the search "
-                              "distance; check the flexion axis point."));
-    if (check_overlap && step == 0 && progress.n_solves == 0)
-      check_initial_overlap();
+    check_coupling(step, progress);
     ++progress.n_solves;
     const std::vector<double> coefficients =
       protocol->load_coefficients(input, pose);
@@ -245,6 +239,27 @@ namespace TKR::Problems
         couple(motion, nullptr);
         solve();
       }
+    finish_solve(progress);
+    return progress.statistics.converged;
+  }
+
+  void
+  GaitCycle::check_coupling(const unsigned int  step,
+                            const StepProgress &progress) const
+  {
+    AssertThrow(model.coupling().statistics().n_covered_nodes > 0,
+                ExcInputError("Gait step " + std::to_string(step) +
+                              ": no part of tibia_contact faces "
+                              "femur_contact within the search "
+                              "distance; check the flexion axis point."));
+    if (check_overlap && step == 0 && progress.n_solves == 0)
+      check_initial_overlap();
+  }
+
+  void
+  GaitCycle::finish_solve(StepProgress &progress) const
+  {
+    const auto &state = progress.state;
     if (progress.window.width > 0)
       progress.window.face_clearance =
         model.coupling().face_clearances(state.displacement,
@@ -253,7 +268,6 @@ namespace TKR::Problems
     for (unsigned int i = 0; i < observation_names.size(); ++i)
       values.push_back(solver->observation(i));
     progress.observations = Gait::Observations(observation_names, values);
-    return progress.statistics.converged;
   }
 
   // One gait step: the protocol's pose solve, each of its contact solves a
@@ -270,15 +284,20 @@ namespace TKR::Problems
     Timer                 step_timer;
     const Gait::StepInput input = protocol->input(100. * step / n_steps());
     StepProgress          progress;
-    Gait::Pose            pose       = start_step(step, input, progress);
-    const Gait::PoseSolve pose_solve = protocol->solve_pose(
-      input,
-      pose,
-      [&](const Gait::Pose &at, Gait::Observations &observed) {
-        const bool converged = contact_solve(step, input, at, progress);
-        observed             = progress.observations;
-        return converged;
-      });
+    Gait::Pose            pose = start_step(step, input, progress);
+    const Gait::PoseSolve pose_solve =
+      parameters.gait.coupled_pose && solver->can_solve_pose() &&
+          !protocol->pose_equations().unknowns.empty() ?
+        coupled_pose_solve(step, input, pose, progress) :
+        protocol->solve_pose(input,
+                             pose,
+                             [&](const Gait::Pose   &at,
+                                 Gait::Observations &observed) {
+                               const bool converged =
+                                 contact_solve(step, input, at, progress);
+                               observed = progress.observations;
+                               return converged;
+                             });
 
     const Gait::RelativeMotion motion = protocol->motion(input, pose);
     const auto                &state  = progress.state;

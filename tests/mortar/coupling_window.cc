@@ -30,25 +30,14 @@ namespace
 {
   using namespace TKR;
 
-  /** The vertices with the femur flexed by @p degrees about the TKR A
-   *  flexion axis (x through y = -2, z = 53.001) and lowered by @p dz. */
+  /** The vertices with the femur flexed by @p degrees and lowered by
+   *  @p dz. */
   std::vector<Point<3>>
   femur_moved(const Triangulation<3> &triangulation,
               const double            degrees,
               const double            dz)
   {
-    std::vector<Point<3>>   x = triangulation.get_vertices();
-    const std::vector<bool> is_femur =
-      Mesh::material_vertices(triangulation, Mesh::MaterialIds::femur);
-    const double a = degrees * numbers::PI / 180.;
-    for (unsigned int v = 0; v < x.size(); ++v)
-      if (is_femur[v])
-        {
-          const double y = x[v][1] + 2., z = x[v][2] - 53.001;
-          x[v][1] = -2. + std::cos(a) * y - std::sin(a) * z;
-          x[v][2] = 53.001 + std::sin(a) * y + std::cos(a) * z - dz;
-        }
-    return x;
+    return ::femur_moved(triangulation, degrees, Tensor<1, 3>({0., 0., -dz}));
   }
 
   /** The smallest mean gap of a covered node. */

@@ -17,7 +17,11 @@
 #include <tkr/mesh/mesh.h>
 #include <tkr/mortar/contact_surface.h>
 
+#include <deal.II/base/numbers.h>
+
+#include <cmath>
 #include <string>
+#include <vector>
 
 /** Read meshes/@p name (a path below meshes/) with the default groups. */
 inline void
@@ -26,6 +30,29 @@ read_test_mesh(const std::string &name, dealii::Triangulation<3> &triangulation)
   TKR::Mesh::read_mesh(TKR::Parameters::Mesh::with_default_groups(
                          std::string(SOURCE_DIR) + "/../../meshes/" + name),
                        triangulation);
+}
+
+/** The vertices of @p triangulation with the femur flexed by @p degrees
+ *  about the TKR A flexion axis (x through y = -2, z = 53.001), then moved
+ *  by @p shift. */
+inline std::vector<dealii::Point<3>>
+femur_moved(const dealii::Triangulation<3> &triangulation,
+            const double                    degrees,
+            const dealii::Tensor<1, 3>     &shift)
+{
+  std::vector<dealii::Point<3>> x = triangulation.get_vertices();
+  const std::vector<bool>       is_femur =
+    TKR::Mesh::material_vertices(triangulation, TKR::Mesh::MaterialIds::femur);
+  const double a = degrees * dealii::numbers::PI / 180.;
+  for (unsigned int v = 0; v < x.size(); ++v)
+    if (is_femur[v])
+      {
+        const double y = x[v][1] + 2., z = x[v][2] - 53.001;
+        x[v][1] = -2. + std::cos(a) * y - std::sin(a) * z;
+        x[v][2] = 53.001 + std::sin(a) * y + std::cos(a) * z;
+        x[v] += shift;
+      }
+  return x;
 }
 
 /** The Q1 vector DoFs of @p triangulation and its contact surfaces:

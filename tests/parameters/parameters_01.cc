@@ -312,6 +312,13 @@ namespace
                                          std::string("+x") :
                                          std::string("-x");
                               }},
+                             {"Gait/Pose solver",
+                              "outer",
+                              [](const P &p) {
+                                return p.gait.coupled_pose ?
+                                         std::string("coupled") :
+                                         std::string("outer");
+                              }},
                              {"Gait/Pose tolerance",
                               "0.002",
                               [](const P &p) {

@@ -4,7 +4,11 @@
 #ifndef tkr_contact_condensed_solver_h
 #define tkr_contact_condensed_solver_h
 
+#include <deal.II/lac/lapack_full_matrix.h>
+#include <deal.II/lac/vector.h>
+
 #include <tkr/contact/contact_solver.h>
+#include <tkr/contact/pose_system.h>
 #include <tkr/elasticity/direct_solver.h>
 #include <tkr/elasticity/elastic_system.h>
 #include <tkr/mortar/mortar_operator.h>
@@ -77,6 +81,34 @@ namespace TKR::Contact
           const std::vector<double> &coefficients,
           const double               initial_distance,
           ContactState              &state) override;
+
+    /**
+     * Solve the contact problem and the rigid unknowns @p q of @p system
+     * (updated) together: one semismooth Newton iteration on the
+     * multipliers and q, globalised by a line search on the merit function
+     * of the complementarity and the pose equations (see the .cc file and
+     * doc/gait.md). The loads are combinations of the load basis
+     * (set_load_basis()) with the coefficients system.load_coefficients().
+     * The result is certified by a solve at the final q (the active set
+     * iteration of solve()) whose pose equations hold within
+     * @p tolerance (mm); @p state is that solve's state, the statistics
+     * its own with the Newton iterations of the whole solve. At most
+     * @p max_iterations Newton iterations.
+     */
+    ContactStatistics
+    solve_with_pose(PoseSystem          &system,
+                    std::vector<double> &q,
+                    const double         tolerance,
+                    const unsigned int   max_iterations,
+                    const double         initial_distance,
+                    ContactState        &state,
+                    PoseStatistics      &pose_statistics) override;
+
+    bool
+    can_solve_pose() const override
+    {
+      return true;
+    }
 
     /** Also forgets the stored columns (they hold the observations). */
     unsigned int
@@ -161,10 +193,98 @@ namespace TKR::Contact
       apply(const unsigned int j, const std::vector<double> &v) const;
     };
 
+    /**
+     * iterate() on the @p zone of @p B, with the columns z_i on it computed
+     * so far in @p z (more are added as the active sets need them).
+     */
+    ContactStatistics
+    iterate(const Mortar::MortarOperator &B,
+            const Zone                   &zone,
+            std::vector<Column>          &z,
+            const std::vector<double>    &u0,
+            const std::vector<double>    &u0_observations,
+            const double                  initial_distance,
+            ContactState                 &state);
+
     /** The zone of the current coupling, with @p u0 on it. */
     Zone
     make_zone(const Mortar::MortarOperator &B,
               const std::vector<double>    &u0) const;
+
+    /**
+     * A pose of solve_with_pose() on its coupling: u_0 and the zone there,
+     * the columns z_i on the zone computed so far, and the active set and
+     * the pose residual of the contact solution there.
+     */
+    struct PosePoint
+    {
+      std::vector<double> q;
+      std::vector<double> coefficients;
+      /** u_0 on all surface values. */
+      std::vector<double> u0;
+      std::vector<double> u0_observations;
+      Zone                zone;
+      std::vector<Column> z;
+      std::vector<bool>   active;
+      /** r_p = s_p w_{i_p} . u (mm). */
+      std::vector<double> residual;
+    };
+
+    /** How u_0 and the master's points change with the pose. */
+    struct PoseDerivatives
+    {
+      /** du_0/dq_k on the zone and its observations. */
+      std::vector<std::vector<double>> u0, observations;
+      /** dp/dq_k = L p + v_0 of a master point p. */
+      std::vector<std::pair<dealii::Tensor<2, 3>, dealii::Tensor<1, 3>>>
+        velocity;
+    };
+
+    /** The pose @p q, whose coupling is the current one. */
+    PosePoint
+    make_pose_point(const PoseSystem &system, const std::vector<double> &q);
+
+    /**
+     * The contact solution at the pose of @p point (the active set iteration
+     * of solve() on its zone, from the active set of @p state): its state,
+     * statistics, and the point's active set and pose residual.
+     */
+    ContactStatistics
+    solve_at_pose(const PoseSystem &system,
+                  const double      initial_distance,
+                  PosePoint        &point,
+                  ContactState     &state);
+
+    /** du_0/dq and the master's velocity fields at @p point. */
+    PoseDerivatives
+    pose_derivatives(const PoseSystem &system, const PosePoint &point) const;
+
+    /**
+     * The pose part dq of the Newton step of multipliers and pose at the
+     * contact solution @p point, for its active set.
+     */
+    std::vector<double>
+    pose_newton_direction(const PoseSystem &system,
+                          PosePoint        &point,
+                          PoseStatistics   &pose_statistics);
+
+    /**
+     * Solve the Newton system @p matrix x = @p rhs (@p n_active multipliers,
+     * then the pose): false if it is (nearly) singular.
+     */
+    static bool
+    solve_newton_system(const PoseSystem                &system,
+                        dealii::LAPACKFullMatrix<double> matrix,
+                        const dealii::Vector<double>    &rhs,
+                        const unsigned int               n_active,
+                        std::vector<double>             &dq);
+
+    /** u_0 and its observations for the basis coefficients @p c. */
+    void
+    combine_basis(const std::vector<double> &c,
+                  std::vector<double>       &u0,
+                  std::vector<double>       &u0_observations) const;
+
 
     /** Compute the columns that the rows of the @p active nodes need. */
     void

@@ -13,6 +13,7 @@
 #include <deal.II/lac/trilinos_vector.h>
 
 #include <tkr/contact/contact_state.h>
+#include <tkr/contact/pose_system.h>
 #include <tkr/elasticity/linear_elasticity.h>
 #include <tkr/mortar/mortar_coupling.h>
 #include <tkr/parameters/parameters.h>
@@ -92,6 +93,30 @@ namespace TKR::Contact
           const std::vector<double> &coefficients,
           const double               initial_distance,
           ContactState              &state);
+
+    /**
+     * Whether solve_with_pose() is available (the condensed active set:
+     * it needs the compliance columns of the contact nodes).
+     */
+    virtual bool
+    can_solve_pose() const
+    {
+      return false;
+    }
+
+    /**
+     * Solve the contact problem on the load basis together with the rigid
+     * unknowns @p q of @p system (updated); the coupling must be that of
+     * @p q on entry. See CondensedActiveSetSolver::solve_with_pose().
+     */
+    virtual ContactStatistics
+    solve_with_pose(PoseSystem          &system,
+                    std::vector<double> &q,
+                    const double         tolerance,
+                    const unsigned int   max_iterations,
+                    const double         initial_distance,
+                    ContactState        &state,
+                    PoseStatistics      &pose_statistics);
 
     /**
      * The full displacement of the last solve (ghosted: every locally

@@ -99,6 +99,13 @@ namespace TKR::Gait
      * The tray's x and z from the mean displacement of the inferior surface
      * (TibiaPose::iterate()'s update on these two components).
      */
+    /**
+     * None (the outer iteration of solve_pose() solves the pose; see the
+     * .cc file).
+     */
+    PoseEquations
+    pose_equations() const override;
+
     PoseSolve
     solve_pose(const StepInput    &input,
                Pose               &pose,

@@ -77,6 +77,14 @@ namespace TKR::Gait
     std::vector<double>
     load_coefficients(const StepInput &input, const Pose &pose) const override;
 
+    /**
+     * The translation and the IE rotation; the restraints' excess force
+     * and torque follow from them; the inferior surface's mean
+     * displacement and rotation (at the rim) vanish at equilibrium.
+     */
+    PoseEquations
+    pose_equations() const override;
+
     PoseSolve
     solve_pose(const StepInput    &input,
                Pose               &pose,

@@ -58,6 +58,22 @@ namespace TKR::Gait
   };
 
   /**
+   * The pose unknowns of a protocol that the contact solver can solve
+   * together with the contact (Contact::PoseSystem): which values of the
+   * Pose are unknowns, the equation each is paired with (an observation
+   * that vanishes at the step's equilibrium, with its scale in mm per unit
+   * of the observation; unknown p is paired with equation p: moving it by
+   * one unit moves the observation by about minus one unit when nothing
+   * holds the tibia), and how the other values follow from the unknowns.
+   */
+  struct PoseEquations
+  {
+    std::vector<unsigned int>                   unknowns;
+    std::vector<std::pair<std::string, double>> residuals;
+    std::function<void(Pose &)>                 complete = [](Pose &) {};
+  };
+
+  /**
    * A gait protocol (DESIGN.md section 10): how a knee simulator drives
    * the two bodies through a cycle, e.g. ISO 14243-1 force control. It
    * owns everything that differs between protocols, so that the gait
@@ -160,6 +176,14 @@ namespace TKR::Gait
     solve_pose(const StepInput    &input,
                Pose               &pose,
                const ContactSolve &solve) const = 0;
+
+    /**
+     * The pose unknowns and their equations (PoseEquations), for the
+     * pose solved together with the contact; none if the protocol's pose
+     * is solved by solve_pose() only.
+     */
+    virtual PoseEquations
+    pose_equations() const = 0;
 
     /**
      * The protocol's numbers of a solved step for @p report: report.pose

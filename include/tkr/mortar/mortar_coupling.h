@@ -56,6 +56,17 @@ namespace TKR::Mortar
      * (current positions): the mortar projection of the node.
      */
     dealii::Point<3> master_point;
+    /**
+     * The derivative of the weighted gap g_j with respect to a rigid
+     * translation v of the master surface (mm^2): g_j changes by
+     * gap_gradient . v. Each point of the support sees the master along the
+     * face's projection direction n_0, so it moves by n_m (n_m . v) /
+     * (n_m . n_0) with n_m the master's normal there: gap_gradient =
+     * int psi_j (n_j . n_0) n_m / (n_m . n_0), scaled like M. Equal to D_jj
+     * n_j where the surfaces are parallel; it differs by the angle between
+     * them, which is what makes the contact hold the bodies tangentially.
+     */
+    dealii::Tensor<1, 3> gap_gradient;
     /** (master node, M_jk) pairs, sorted by master node; their sum is
      *  D_jj if any part of the support is covered. */
     std::vector<std::pair<unsigned int, double>> M;

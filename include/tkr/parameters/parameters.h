@@ -196,6 +196,12 @@ namespace TKR::Parameters
     /** Pose updates stop when the mean inferior displacement is below this
      * (mm). */
     double pose_tolerance;
+    /**
+     * The pose solved together with the contact in one semismooth Newton
+     * iteration (true, `Pose solver = coupled`; needs the condensed
+     * active set) or by contact solves at fixed poses (`outer`).
+     */
+    bool coupled_pose;
     /** The insert sits in a rigid tray that cannot tilt sagittally. */
     bool rigid_tray;
     /**

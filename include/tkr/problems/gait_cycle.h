@@ -190,6 +190,32 @@ namespace TKR::Problems
                   const Gait::Pose      &pose,
                   StepProgress          &progress);
 
+    /**
+     * The pose of step @p step solved together with the contact from
+     * @p pose (updated): Contact::ContactSolver::solve_with_pose() with the
+     * protocol's Gait::PoseEquations (in the coupling window if there is
+     * one, again on the whole search distance if the solution leaves it).
+     */
+    Gait::PoseSolve
+    coupled_pose_solve(const unsigned int     step,
+                       const Gait::StepInput &input,
+                       Gait::Pose            &pose,
+                       StepProgress          &progress);
+
+    /**
+     * Refuse a coupling of step @p step without a covered node; at the
+     * step's first solve of the initial geometry, check the overlap.
+     */
+    void
+    check_coupling(const unsigned int step, const StepProgress &progress) const;
+
+    /**
+     * After a step's contact solve: the face clearances for the coupling
+     * window and the observations, into @p progress.
+     */
+    void
+    finish_solve(StepProgress &progress) const;
+
     /** The mortar coupling at @p motion, in @p window if given. */
     void
     couple(const Gait::RelativeMotion   &motion,
@@ -237,6 +263,8 @@ namespace TKR::Problems
     std::vector<Gait::StepReport>           reports;
     std::vector<Gait::StepStart>            starts;
     unsigned int                            window_misses = 0;
+    /** At most this many Newton iterations or updates of a step's pose. */
+    static constexpr unsigned int max_pose_iterations = 40;
     /** Check the overlap at step 0 in this solve() (initial geometry). */
     bool check_overlap = false;
 

@@ -1,0 +1,334 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+// The contact problem and the rigid pose of the tibial tray in one
+// semismooth Newton iteration (CondensedActiveSetSolver::solve_with_pose()).
+// The equations and the globalisation are in doc/gait.md, "Pose and
+// contact in one Newton".
+
+#include <deal.II/base/timer.h>
+
+#include <deal.II/lac/lapack_full_matrix.h>
+
+#include <tkr/base/exceptions.h>
+#include <tkr/contact/condensed_solver.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace TKR::Contact
+{
+  using namespace dealii;
+
+  namespace
+  {
+    /** Armijo's constant of the line search on the merit 1/2 |r|^2. */
+    constexpr double armijo = 1e-4;
+    /** The smallest step of the line search. */
+    constexpr double min_step = 1. / 64;
+    /** The largest change of the pose per Newton iteration (mm). */
+    constexpr double max_pose_step = 2.;
+  } // namespace
+
+  void
+  CondensedActiveSetSolver::combine_basis(
+    const std::vector<double> &c,
+    std::vector<double>       &u0,
+    std::vector<double>       &u0_observations) const
+  {
+    AssertThrow(!basis_columns.empty() && c.size() + 1 == basis_columns.size(),
+                ExcMessage("Call set_load_basis() with as many loads as "
+                           "coefficients before this solve()."));
+    u0              = basis_columns.back().surface;
+    u0_observations = basis_columns.back().observations;
+    for (unsigned int b = 0; b < c.size(); ++b)
+      {
+        const Column &column = basis_columns[b];
+        for (unsigned int r = 0; r < u0.size(); ++r)
+          u0[r] += c[b] * column.surface[r];
+        for (unsigned int o = 0; o < u0_observations.size(); ++o)
+          u0_observations[o] += c[b] * column.observations[o];
+      }
+  }
+
+  // The coupling of q is the current one: u_0(q) on all surface values and
+  // on the zone of the coupling.
+  CondensedActiveSetSolver::PosePoint
+  CondensedActiveSetSolver::make_pose_point(const PoseSystem          &system,
+                                            const std::vector<double> &q)
+  {
+    PosePoint point;
+    point.q            = q;
+    point.coefficients = system.load_coefficients(q);
+    combine_basis(point.coefficients, point.u0, point.u0_observations);
+    point.zone = make_zone(Mortar::MortarOperator(coupling), point.u0);
+    point.z.resize(coupling.slave_nodes().size());
+    return point;
+  }
+
+  // The active set iteration of solve() on the point's zone, its columns
+  // z_i kept in the point for the Newton matrix; the active set of @p state
+  // (if it has one) is the start.
+  ContactStatistics
+  CondensedActiveSetSolver::solve_at_pose(const PoseSystem &system,
+                                          const double      initial_distance,
+                                          PosePoint        &point,
+                                          ContactState     &state)
+  {
+    const Mortar::MortarOperator B(coupling);
+    ContactStatistics            statistics = iterate(B,
+                                           point.zone,
+                                           point.z,
+                                           point.u0,
+                                           point.u0_observations,
+                                           initial_distance,
+                                           state);
+    statistics.relative_residual            = basis_residual;
+    statistics.converged =
+      statistics.converged && basis_residual <= parameters.tolerance;
+    last_rhs.clear();
+    last_coefficients = point.coefficients;
+    point.active      = state.active;
+    point.residual.clear();
+    for (const auto &[index, scale] : system.residual_rows())
+      point.residual.push_back(scale * observed[index]);
+    return statistics;
+  }
+
+  // How u_0 and its observations change with the pose through the loads
+  // (central differences of the load coefficients: exact for the linear
+  // ones, the mean slope at a restraint's kink), and the velocity fields of
+  // the master's points.
+  CondensedActiveSetSolver::PoseDerivatives
+  CondensedActiveSetSolver::pose_derivatives(const PoseSystem &system,
+                                             const PosePoint  &point) const
+  {
+    const unsigned int m      = system.n_unknowns();
+    const unsigned int n_zone = point.zone.values.size();
+    PoseDerivatives    d;
+    d.u0.assign(m, std::vector<double>(n_zone, 0.));
+    d.observations.assign(m,
+                          std::vector<double>(point.u0_observations.size(),
+                                              0.));
+    for (unsigned int k = 0; k < m; ++k)
+      {
+        const double        h    = 1e-6 * std::max(1., std::abs(point.q[k]));
+        std::vector<double> plus = point.q, minus = point.q;
+        plus[k] += h;
+        minus[k] -= h;
+        const std::vector<double> cp = system.load_coefficients(plus);
+        const std::vector<double> cm = system.load_coefficients(minus);
+        for (unsigned int b = 0; b < cp.size(); ++b)
+          {
+            const double dc = (cp[b] - cm[b]) / (2 * h);
+            if (dc == 0.)
+              continue;
+            const Column &column = basis_columns[b];
+            for (unsigned int v = 0; v < n_zone; ++v)
+              d.u0[k][v] += dc * column.surface[point.zone.values[v]];
+            for (unsigned int o = 0; o < column.observations.size(); ++o)
+              d.observations[k][o] += dc * column.observations[o];
+          }
+        d.velocity.push_back(system.master_velocity(point.q, k));
+      }
+    return d;
+  }
+
+  // The Newton matrix of the active set A at the contact solution of the
+  // pose q, for the unknowns lambda_A (the new multipliers) and the change
+  // dq of the pose:
+  //   [ W_AA / D     H_A / D ] [lambda_A]   [ -(g_A - B_A u_0) / D ]
+  //   [ -S Z_A^T     S R     ] [   dq   ] = [ -S w . u_0           ]
+  // W_AA = B_A K^{-1} B_A^T (the Delassus operator), H_jk = G_jk -
+  // B_j du_0/dq_k with G_jk = gamma_j . dp_j/dq_k the change of the
+  // weighted gap when the master point p_j moves with the pose (gamma_j the
+  // coupling's gap gradient), Z_A the observations of the columns z_i,
+  // R = d(w . u_0)/dq the pose's own effect on the observations through the
+  // loads, S the residual's scales. The gap rows are divided by D_jj (mm).
+  // If no active node holds some pose unknown the matrix is singular: the
+  // pose rows then get the fixed-point model dr_p/dq_p = -s_p (the pose
+  // moves by the displacement it observes).
+  std::vector<double>
+  CondensedActiveSetSolver::pose_newton_direction(const PoseSystem &system,
+                                                  PosePoint        &point,
+                                                  PoseStatistics   &statistics)
+  {
+    const auto                  &nodes = coupling.slave_nodes();
+    const Mortar::MortarOperator B(coupling);
+    std::vector<unsigned int>    active;
+    for (unsigned int j = 0; j < nodes.size(); ++j)
+      if (point.active[j])
+        active.push_back(j);
+    ensure_columns(B, active);
+
+    TimerOutput::Scope    scope(timer, "condensed Newton step");
+    const Zone           &zone = point.zone;
+    const unsigned int    m    = system.n_unknowns();
+    const unsigned int    n_A  = active.size();
+    const auto            rows = system.residual_rows();
+    const PoseDerivatives d    = pose_derivatives(system, point);
+    AssertDimension(rows.size(), m);
+    for (const unsigned int i : active)
+      if (point.z[i].surface.empty())
+        point.z[i] = zone_column(B, zone, i);
+
+    LAPACKFullMatrix<double> J(n_A + m, n_A + m);
+    Vector<double>           rhs(n_A + m);
+    for (unsigned int a = 0; a < n_A; ++a)
+      {
+        const auto &node = nodes[active[a]];
+        for (unsigned int b = 0; b < n_A; ++b)
+          J(a, b) = zone.apply(active[a], point.z[active[b]].surface) / node.D;
+        for (unsigned int k = 0; k < m; ++k)
+          {
+            const Tensor<1, 3> v =
+              d.velocity[k].first * node.master_point + d.velocity[k].second;
+            J(a, n_A + k) =
+              (node.gap_gradient * v - zone.apply(active[a], d.u0[k])) / node.D;
+          }
+        rhs(a) = -(node.weighted_gap - zone.apply(active[a], zone.u0)) / node.D;
+      }
+    for (unsigned int p = 0; p < m; ++p)
+      {
+        const auto [index, scale] = rows[p];
+        for (unsigned int b = 0; b < n_A; ++b)
+          J(n_A + p, b) = -scale * point.z[active[b]].observations[index];
+        for (unsigned int k = 0; k < m; ++k)
+          J(n_A + p, n_A + k) = scale * d.observations[k][index];
+        rhs(n_A + p) = -scale * point.u0_observations[index];
+      }
+
+    std::vector<double> dq(m);
+    if (!solve_newton_system(system, J, rhs, n_A, dq))
+      {
+        ++statistics.n_regularised;
+        for (unsigned int p = 0; p < m; ++p)
+          J(n_A + p, n_A + p) -= rows[p].second;
+        AssertThrow(solve_newton_system(system, J, rhs, n_A, dq),
+                    ExcMessage("The Newton matrix of the contact and the "
+                               "pose is singular."));
+      }
+    return dq;
+  }
+
+  // LU with partial pivoting; a singular matrix, or a pose change beyond
+  // any motion of a step (a nearly singular one), is a failure.
+  bool
+  CondensedActiveSetSolver::solve_newton_system(const PoseSystem        &system,
+                                                LAPACKFullMatrix<double> matrix,
+                                                const Vector<double>    &rhs,
+                                                const unsigned int   n_active,
+                                                std::vector<double> &dq)
+  {
+    Vector<double> x(rhs);
+    try
+      {
+        matrix.compute_lu_factorization();
+        matrix.solve(x);
+      }
+    catch (const ExceptionBase &)
+      {
+        return false;
+      }
+    for (unsigned int k = 0; k < dq.size(); ++k)
+      dq[k] = x(n_active + k);
+    return std::all_of(x.begin(),
+                       x.end(),
+                       [](const double v) { return std::isfinite(v); }) &&
+           system.step_size(dq) < 1e3;
+  }
+
+  // The iteration (doc/gait.md, "Pose and contact in one Newton"): the
+  // contact solution at the starting pose (enough for a warm step whose
+  // pose still holds); then, at the contact solution (lambda, q) of the
+  // current pose, the Newton step of multipliers and pose together
+  // (pose_newton_direction()), and a backtracking line search along its
+  // pose part dq: at each trial pose the coupling and the contact solution
+  // there (the active set iteration from the current set: every iterate
+  // satisfies the contact conditions exactly), accepted when the merit
+  // 1/2 |r|^2 of the pose equations has decreased by Armijo's rule (the
+  // step of the pose at most max_pose_step). The contact solution's pose
+  // residual is continuous in the pose, smooth between changes of the
+  // active set: the merit decreases at every accepted step, so the
+  // iteration cannot cycle. A step that finds no decrease down to min_step
+  // is taken anyway and counted.
+  ContactStatistics
+  CondensedActiveSetSolver::solve_with_pose(PoseSystem          &system,
+                                            std::vector<double> &q,
+                                            const double         tolerance,
+                                            const unsigned int   max_iterations,
+                                            const double    initial_distance,
+                                            ContactState   &state,
+                                            PoseStatistics &pose_statistics)
+  {
+    const auto merit = [](const PosePoint &p) {
+      double sum = 0;
+      for (const double r : p.residual)
+        sum += r * r;
+      return 0.5 * sum;
+    };
+    const auto largest = [](const PosePoint &p) {
+      double r_max = 0;
+      for (const double r : p.residual)
+        r_max = std::max(r_max, std::abs(r));
+      return r_max;
+    };
+    pose_statistics         = PoseStatistics();
+    PosePoint         point = make_pose_point(system, q);
+    ContactStatistics statistics =
+      solve_at_pose(system, initial_distance, point, state);
+    pose_statistics.n_solves       = 1;
+    unsigned int newton_iterations = statistics.newton_iterations;
+    while (!(statistics.converged && largest(point) <= tolerance) &&
+           pose_statistics.n_iterations < max_iterations)
+      {
+        ++pose_statistics.n_iterations;
+        const std::vector<double> dq =
+          pose_newton_direction(system, point, pose_statistics);
+        double alpha = std::min(1., max_pose_step / system.step_size(dq));
+        for (;;)
+          {
+            std::vector<double> q_trial(q.size());
+            for (unsigned int k = 0; k < q.size(); ++k)
+              q_trial[k] = point.q[k] + alpha * dq[k];
+            ContactState      trial_state = state;
+            PosePoint         trial;
+            ContactStatistics trial_statistics;
+            bool              solved = system.couple(q_trial);
+            if (solved)
+              {
+                trial = make_pose_point(system, q_trial);
+                trial_statistics =
+                  solve_at_pose(system, initial_distance, trial, trial_state);
+                newton_iterations += trial_statistics.newton_iterations;
+                ++pose_statistics.n_solves;
+                solved = trial_statistics.converged;
+              }
+            const bool decreased =
+              solved && merit(trial) <= (1 - 2 * armijo * alpha) * merit(point);
+            if (decreased || (solved && alpha <= min_step))
+              {
+                pose_statistics.n_stalled_steps += !decreased;
+                point      = std::move(trial);
+                state      = std::move(trial_state);
+                statistics = trial_statistics;
+                break;
+              }
+            AssertThrow(alpha > min_step,
+                        ExcMessage("The contact problem has no solution "
+                                   "along the Newton direction of the pose "
+                                   "(no covered node, or the active set "
+                                   "iteration did not converge)."));
+            alpha /= 2;
+            ++pose_statistics.n_step_cuts;
+          }
+      }
+    q                        = point.q;
+    pose_statistics.residual = largest(point);
+    pose_statistics.converged =
+      statistics.converged && pose_statistics.residual <= tolerance;
+    statistics.newton_iterations = newton_iterations;
+    return statistics;
+  }
+} // namespace TKR::Contact
