@@ -252,7 +252,8 @@ namespace TKR::Contact
   // residual is continuous in the pose, smooth between changes of the
   // active set: the merit decreases at every accepted step, so the
   // iteration cannot cycle. A step that finds no decrease down to min_step
-  // is taken anyway and counted.
+  // is taken anyway and counted; one that finds no contact solution there
+  // ends the iteration, not converged.
   ContactStatistics
   CondensedActiveSetSolver::solve_with_pose(PoseSystem          &system,
                                             std::vector<double> &q,
@@ -280,8 +281,9 @@ namespace TKR::Contact
       solve_at_pose(system, initial_distance, point, state);
     pose_statistics.n_solves       = 1;
     unsigned int newton_iterations = statistics.newton_iterations;
+    bool         stuck             = false;
     while (!(statistics.converged && largest(point) <= tolerance) &&
-           pose_statistics.n_iterations < max_iterations)
+           pose_statistics.n_iterations < max_iterations && !stuck)
       {
         ++pose_statistics.n_iterations;
         const std::vector<double> dq =
@@ -315,11 +317,15 @@ namespace TKR::Contact
                 statistics = trial_statistics;
                 break;
               }
-            AssertThrow(alpha > min_step,
-                        ExcMessage("The contact problem has no solution "
-                                   "along the Newton direction of the pose "
-                                   "(no covered node, or the active set "
-                                   "iteration did not converge)."));
+            // No contact solution down to the smallest step (no covered
+            // node, or an active set iteration that did not converge): the
+            // solve ends, not converged, at the last point.
+            if (alpha <= min_step)
+              {
+                stuck = true;
+                system.couple(point.q);
+                break;
+              }
             alpha /= 2;
             ++pose_statistics.n_step_cuts;
           }
