@@ -64,6 +64,11 @@ namespace TKR::Problems
     reports.assign(n_steps, Gait::StepReport());
     starts.assign(n_steps, Gait::StepStart());
     setup_solver();
+    // The pose is solved with the contact where the protocol names its
+    // unknowns and the solver has the columns (doc/gait.md).
+    pose_equations = protocol->pose_equations();
+    if (!parameters.gait.coupled_pose || !solver->can_solve_pose())
+      pose_equations.unknowns.clear();
     if (parameters.output.vtu_interval > 0)
       step_series =
         std::make_unique<Output::VtuSeries>(parameters.output.directory,
@@ -286,8 +291,7 @@ namespace TKR::Problems
     StepProgress          progress;
     Gait::Pose            pose = start_step(step, input, progress);
     const Gait::PoseSolve pose_solve =
-      parameters.gait.coupled_pose && solver->can_solve_pose() &&
-          !protocol->pose_equations().unknowns.empty() ?
+      !pose_equations.unknowns.empty() ?
         coupled_pose_solve(step, input, pose, progress) :
         protocol->solve_pose(input,
                              pose,

@@ -28,6 +28,7 @@ namespace TKR::Problems
     public:
       StepPoseSystem(
         const Gait::Protocol                             &protocol,
+        const Gait::PoseEquations                        &equations,
         const Gait::StepInput                            &input,
         const Gait::Pose                                 &start,
         const std::vector<std::string>                   &observation_names,
@@ -35,7 +36,7 @@ namespace TKR::Problems
         : protocol(protocol)
         , input(input)
         , start(start)
-        , equations(protocol.pose_equations())
+        , equations(equations)
         , couple_at(std::move(couple_at))
       {
         for (const auto &[name, scale] : equations.residuals)
@@ -140,7 +141,7 @@ namespace TKR::Problems
       const Gait::Protocol                             &protocol;
       const Gait::StepInput                            &input;
       const Gait::Pose                                  start;
-      const Gait::PoseEquations                         equations;
+      const Gait::PoseEquations                        &equations;
       std::function<bool(const Gait::RelativeMotion &)> couple_at;
       std::vector<std::pair<unsigned int, double>>      rows;
     };
@@ -160,7 +161,12 @@ namespace TKR::Problems
         couple(motion, nullptr);
       return model.coupling().statistics().n_covered_nodes > 0;
     };
-    StepPoseSystem system(*protocol, input, pose, observation_names, couple_at);
+    StepPoseSystem              system(*protocol,
+                          pose_equations,
+                          input,
+                          pose,
+                          observation_names,
+                          couple_at);
     const Contact::ContactState start = progress.state;
     Contact::PoseStatistics     statistics;
     for (;;)

@@ -8,7 +8,6 @@
 #include <deal.II/lac/vector.h>
 
 #include <tkr/contact/contact_solver.h>
-#include <tkr/contact/pose_system.h>
 #include <tkr/elasticity/direct_solver.h>
 #include <tkr/elasticity/elastic_system.h>
 #include <tkr/mortar/mortar_operator.h>
@@ -84,16 +83,15 @@ namespace TKR::Contact
 
     /**
      * Solve the contact problem and the rigid unknowns @p q of @p system
-     * (updated) together: one semismooth Newton iteration on the
-     * multipliers and q, globalised by a line search on the merit function
-     * of the complementarity and the pose equations (see the .cc file and
-     * doc/gait.md). The loads are combinations of the load basis
-     * (set_load_basis()) with the coefficients system.load_coefficients().
-     * The result is certified by a solve at the final q (the active set
-     * iteration of solve()) whose pose equations hold within
-     * @p tolerance (mm); @p state is that solve's state, the statistics
-     * its own with the Newton iterations of the whole solve. At most
-     * @p max_iterations Newton iterations.
+     * (updated) together: Newton steps of multipliers and q, each followed
+     * by a line search along its pose part on the contact solutions (the
+     * active set iteration of solve()) at the trial poses, until the pose
+     * equations hold within @p tolerance (mm); at most @p max_iterations
+     * Newton steps (see the .cc file and doc/gait.md). The loads are
+     * combinations of the load basis (set_load_basis()) with the
+     * coefficients system.load_coefficients(). @p state is the last
+     * contact solution's state, the statistics its own with the active
+     * set iterations of the whole solve.
      */
     ContactStatistics
     solve_with_pose(PoseSystem          &system,
@@ -284,7 +282,6 @@ namespace TKR::Contact
     combine_basis(const std::vector<double> &c,
                   std::vector<double>       &u0,
                   std::vector<double>       &u0_observations) const;
-
 
     /** Compute the columns that the rows of the @p active nodes need. */
     void

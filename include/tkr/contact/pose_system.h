@@ -4,7 +4,6 @@
 #ifndef tkr_contact_pose_system_h
 #define tkr_contact_pose_system_h
 
-#include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 
 #include <utility>

@@ -263,6 +263,11 @@ namespace TKR::Problems
     std::vector<Gait::StepReport>           reports;
     std::vector<Gait::StepStart>            starts;
     unsigned int                            window_misses = 0;
+    /**
+     * The protocol's pose unknowns and equations that are solved with the
+     * contact (coupled_pose_solve()); none: the protocol's solve_pose().
+     */
+    Gait::PoseEquations pose_equations;
     /** At most this many Newton iterations or updates of a step's pose. */
     static constexpr unsigned int max_pose_iterations = 40;
     /** Check the overlap at step 0 in this solve() (initial geometry). */
