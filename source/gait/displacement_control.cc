@@ -164,17 +164,19 @@ namespace TKR::Gait
                                         pose_state(input, pose));
   }
 
-  // None yet: the tray's ML position is held by the contact (and a weak
-  // spring) alone, and the contact's ML force jumps where a slave node's
-  // coverage changes; the equilibrium is then the jump itself, which the
-  // outer iteration's brackets accept (solve_pose()) and the Newton of the
-  // pose cannot reach (TKR A coarse, step 54: 40 Newton steps, not
-  // converged). Until the contact force is continuous in the pose
-  // (doc/gait.md, Known problems) this protocol keeps the outer iteration.
+  // The tray's x and z (pose values 0 and 1) against the inferior
+  // surface's mean x and z displacement. Along x nothing but the contact
+  // (and the weak ML spring) holds the tray; the contact force is
+  // continuous in the pose since the mortar coupling's edge rule and basis
+  // blend (Mortar::MortarCoupling), which is what the Newton needs here.
   PoseEquations
   DisplacementControl::pose_equations() const
   {
-    return {};
+    const auto    names = tibia_pose.motion_observations();
+    PoseEquations equations;
+    equations.unknowns  = {0, 1};
+    equations.residuals = {{names[0].first, 1.}, {names[2].first, 1.}};
+    return equations;
   }
 
   // The tray's AP and IE DoFs are held, so the inferior surface's mean y

@@ -59,8 +59,7 @@ namespace TKR::Mortar
    * What reinit() collects: the integration cells of all slave faces with
    * their quadrature points (first pass), and then per slave node the
    * covered area int_covered phi_j, the (master node, value) contributions
-   * to its row of M, and whether the node projects onto an accepted master
-   * face. Plus reused scratch space.
+   * to its row of M and to its gap gradient. Plus reused scratch space.
    */
   struct MortarCoupling::Accumulator
   {
@@ -72,7 +71,9 @@ namespace TKR::Mortar
       unsigned int          first_cell = 0, end_cell = 0;
       double                plane_area = 0, covered_plane_area = 0;
       std::array<double, 3> exact{};
-      bool                  fully_covered = false, overcovered = false;
+      /** The part of the projection covered by master faces. */
+      double coverage      = 0;
+      bool   fully_covered = false, overcovered = false;
     };
     /** An integration cell: faces, points, area, and the master face's
      *  projection: its area, the exact integrals of its shape functions
@@ -93,7 +94,6 @@ namespace TKR::Mortar
     std::vector<double>                                       covered_D;
     std::vector<dealii::Tensor<1, 3>>                         gap_gradient;
     std::vector<std::vector<std::pair<unsigned int, double>>> rows;
-    std::vector<bool>                                         projects;
 
     std::vector<BoxEntry>              candidates;
     std::vector<std::array<double, 4>> phi;

@@ -25,21 +25,6 @@ namespace TKR::Mortar
 
   namespace
   {
-    /** True if @p p lies in the convex counter-clockwise @p polygon, or
-     *  on its boundary to @p tolerance (a length). */
-    bool
-    inside(const Polygon &polygon, const Point2 &p, const double tolerance)
-    {
-      for (unsigned int v = 0; v < polygon.size(); ++v)
-        {
-          const Tensor<1, 2> e = polygon[(v + 1) % polygon.size()] - polygon[v];
-          const Tensor<1, 2> d = p - polygon[v];
-          if (e[0] * d[1] - e[1] * d[0] < -tolerance * e.norm())
-            return false;
-        }
-      return true;
-    }
-
     /**
      * The exact integrals of phi_1, phi_2, phi_3 over the unit square with
      * the weight |J|, J = j_0 + j_1 xi_0 + j_2 xi_1 the Jacobian determinant
@@ -91,6 +76,24 @@ namespace TKR::Mortar
       return A;
     }
   } // namespace
+
+  double
+  MortarCoupling::dual_weight(const double coverage)
+  {
+    if (coverage <= dual_coverage)
+      return 0.;
+    const double s = (coverage - dual_coverage) / (1. - dual_coverage);
+    return s * s * (3. - 2. * s);
+  }
+
+  double
+  MortarCoupling::edge_offset(const double fraction, const double length)
+  {
+    if (fraction >= full_constraint_fraction)
+      return 0.;
+    const double r = (full_constraint_fraction - fraction) / fraction;
+    return length * r * r;
+  }
 
   void
   MortarCoupling::update_slave_cache(const std::vector<Point<3>> &positions)
@@ -160,7 +163,6 @@ namespace TKR::Mortar
     accumulator.covered_D.assign(nodes.size(), 0.);
     accumulator.gap_gradient.assign(nodes.size(), Tensor<1, 3>());
     accumulator.rows.resize(nodes.size());
-    accumulator.projects.assign(nodes.size(), false);
     const unsigned int n_faces = slave.faces().size();
     face_distance.assign(n_faces, std::numeric_limits<double>::infinity());
     std::vector<std::vector<unsigned int>> pairs(n_faces);
@@ -268,6 +270,7 @@ namespace TKR::Mortar
       return;
     ++stats.n_integrated_faces;
     const double coverage = face.covered_plane_area / face.plane_area;
+    face.coverage         = coverage;
     face.overcovered      = coverage > 1. + 1e-9;
     face.fully_covered    = !face.overcovered && coverage >= 1. - 1e-9;
     if (face.overcovered)
@@ -323,13 +326,6 @@ namespace TKR::Mortar
        projection.max_beta - projection.min_beta <=
          1e-12 * std::sqrt(slave_face.area)});
     accumulator.faces[e].covered_plane_area += area;
-
-    // Does a node of the face project onto this master face?
-    const auto  &face_nodes = slave.faces()[e].nodes;
-    const double tolerance  = 1e-9 * std::sqrt(slave_face.area);
-    for (unsigned int v = 0; v < 4; ++v)
-      if (inside(master_outline, slave_face.quad.vertices[v], tolerance))
-        accumulator.projects[face_nodes[v]] = true;
   }
 
   // The fitted weights (CellQuadrature). The Gauss points of the cells
@@ -389,7 +385,8 @@ namespace TKR::Mortar
   }
 
   // The contributions of slave face e to D^c and M, with the dual basis
-  // (fully covered face) or the standard basis (partly covered face).
+  // (fully covered face), the standard basis (a face less than
+  // dual_coverage covered) or a blend of both.
   void
   MortarCoupling::assemble_face(const unsigned int           e,
                                 const std::vector<Point<3>> &positions,
@@ -417,12 +414,19 @@ namespace TKR::Mortar
         weight[q - begin] = points[q].weight * a.norm() / std::abs(face.n0 * a);
         phi[q - begin]    = BilinearQuad::shape_values(points[q].slave_xi);
       }
+    // psi = t psi^dual + (1 - t) phi with t = dual_weight(coverage): the
+    // dual basis on a fully covered face, the standard one below
+    // dual_coverage, blended continuously in between.
     FullMatrix<double> A(4, 4);
-    if (face.fully_covered)
-      A = dual_basis_coefficients(phi, weight);
-    else
-      for (unsigned int i = 0; i < 4; ++i)
-        A(i, i) = 1.;
+    const double       t =
+      face.fully_covered ? 1. : dual_weight(std::min(face.coverage, 1.));
+    if (t > 0)
+      {
+        A = dual_basis_coefficients(phi, weight);
+        A *= t;
+      }
+    for (unsigned int i = 0; i < 4; ++i)
+      A(i, i) += 1. - t;
 
     // D^c_i = sum_q W_q phi_i(xi_q); per cell (one master face) the block
     // sum_q W_q psi_i(xi_q) phi^m_l(eta_q) of M for the face's four slave
@@ -468,8 +472,8 @@ namespace TKR::Mortar
 
   // Per node: merge the row of M, scale it (and so the weighted gap) from
   // the covered area D^c_j to the nodal area D_jj, decide whether the node
-  // is covered (the edge rule of the class documentation), and compute the
-  // weighted gap and the master point.
+  // is covered, and compute the weighted gap with the edge offset of the
+  // class documentation, and the master point.
   void
   MortarCoupling::finish_nodes(const std::vector<Point<3>> &positions,
                                const Tensor<2, 3>          &master_rotation,
@@ -512,8 +516,7 @@ namespace TKR::Mortar
         node.gap_gradient = scale * accumulator.gap_gradient[j];
 
         const bool fully = node.covered_fraction >= 1. - 1e-9;
-        node.covered     = fully || (accumulator.projects[j] &&
-                                 node.covered_fraction >= min_covered_fraction);
+        node.covered     = node.covered_fraction >= min_covered_fraction;
         if (node.covered)
           {
             ++stats.n_covered_nodes;
@@ -532,7 +535,9 @@ namespace TKR::Mortar
             node.master_point += value * positions[master_nodes[k].vertex];
             row_sum += value;
           }
-        node.weighted_gap = node.normal * mortar_difference;
+        node.gap_offset = edge_offset(node.covered_fraction, std::sqrt(node.D));
+        node.weighted_gap =
+          node.normal * mortar_difference + node.D * node.gap_offset;
         if (row_sum != 0.)
           node.master_point /= row_sum;
       }

@@ -139,12 +139,12 @@ namespace TKR::Parameters
         "coupled",
         Patterns::Selection("coupled|outer"),
         "coupled: the tibia's pose (force control: its translation and IE "
-        "rotation) and the contact pressures are the unknowns of one "
-        "semismooth Newton iteration with a line search (doc/gait.md; needs "
-        "Contact solver/Solver = condensed active set or auto). outer: "
-        "contact solves at fixed poses, each followed by an update of the "
-        "pose; what the AMG-CG active set and Control = displacement use "
-        "whatever this says.");
+        "rotation; displacement control: its ML position and height) and "
+        "the contact pressures are the unknowns of one semismooth Newton "
+        "iteration with a line search (doc/gait.md; needs Contact "
+        "solver/Solver = condensed active set or auto). outer: contact "
+        "solves at fixed poses, each followed by an update of the pose; "
+        "what the AMG-CG active set uses whatever this says.");
       prm.declare_entry("Tibial tray",
                         "rigid",
                         Patterns::Selection("rigid|free"),

@@ -40,17 +40,6 @@ namespace
     return ::femur_moved(triangulation, degrees, Tensor<1, 3>({0., 0., -dz}));
   }
 
-  /** The smallest mean gap of a covered node. */
-  double
-  smallest_gap(const Mortar::MortarCoupling &coupling)
-  {
-    double result = 1e300;
-    for (const auto &node : coupling.slave_nodes())
-      if (node.covered)
-        result = std::min(result, node.weighted_gap / node.D);
-    return result;
-  }
-
   /** True if the rows of node @p j agree to 1e-12. */
   bool
   same_row(const Mortar::SlaveNode &a, const Mortar::SlaveNode &b)
@@ -164,7 +153,5 @@ main(int argc, char **argv)
 {
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   initlog();
-  for (const std::string name : {"tkr-a-coarse.msh", "tkr-a-implant.msh"})
-    for (const double degrees : {0., 30.})
-      check(name, degrees);
+  for_each_tkr_a_pose(check);
 }

@@ -16,9 +16,11 @@
 
 #include <tkr/mesh/mesh.h>
 #include <tkr/mortar/contact_surface.h>
+#include <tkr/mortar/mortar_coupling.h>
 
 #include <deal.II/base/numbers.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -53,6 +55,44 @@ femur_moved(const dealii::Triangulation<3> &triangulation,
         x[v] += shift;
       }
   return x;
+}
+
+/** The smallest mean gap g_j / D_jj (mm) of a covered node. */
+inline double
+smallest_gap(const TKR::Mortar::MortarCoupling &coupling)
+{
+  double result = 1e300;
+  for (const auto &node : coupling.slave_nodes())
+    if (node.covered)
+      result = std::min(result, node.weighted_gap / node.D);
+  return result;
+}
+
+/** The shift of the femur flexed by @p degrees (femur_moved()) that lowers
+ *  it until it touches the tibia (the smallest mean gap of @p coupling
+ *  vanishes), and then by @p depth (mm) more. */
+inline dealii::Tensor<1, 3>
+femur_touching(const dealii::Triangulation<3> &triangulation,
+               TKR::Mortar::MortarCoupling    &coupling,
+               const double                    degrees,
+               const double                    search_distance,
+               const double                    depth = 0)
+{
+  dealii::Tensor<1, 3> shift;
+  coupling.reinit(femur_moved(triangulation, degrees, shift), search_distance);
+  shift[2] = -smallest_gap(coupling) - depth;
+  return shift;
+}
+
+/** @p check(mesh name, degrees) for the coarse TKR A and its mesh-implant
+ *  output, the femur flexed by 0 and 30 degrees. */
+template <typename Check>
+void
+for_each_tkr_a_pose(const Check &check)
+{
+  for (const std::string name : {"tkr-a-coarse.msh", "tkr-a-implant.msh"})
+    for (const double degrees : {0., 30.})
+      check(name, degrees);
 }
 
 /** The Q1 vector DoFs of @p triangulation and its contact surfaces:

@@ -96,16 +96,16 @@ namespace TKR::Gait
     load_coefficients(const StepInput &input, const Pose &pose) const override;
 
     /**
-     * The tray's x and z from the mean displacement of the inferior surface
-     * (TibiaPose::iterate()'s update on these two components).
-     */
-    /**
-     * None (the outer iteration of solve_pose() solves the pose; see the
-     * .cc file).
+     * The tray's x and z against the inferior surface's mean x and z
+     * displacement (see the .cc file).
      */
     PoseEquations
     pose_equations() const override;
 
+    /**
+     * The tray's x and z from the mean displacement of the inferior surface
+     * (TibiaPose::iterate()'s update on these two components).
+     */
     PoseSolve
     solve_pose(const StepInput    &input,
                Pose               &pose,

@@ -33,7 +33,8 @@ namespace TKR::Mortar
    * g_j are integrated over the covered part only, consistently with its
    * area (MortarCoupling explains the rule): then sum_k M_jk = D_jj and
    * g_j / D_jj is the mean gap over the covered part, never a gap to
-   * a master surface that is not there.
+   * a master surface that is not there, plus the edge offset of a node
+   * with less than half its support covered (gap_offset).
    */
   struct SlaveNode
   {
@@ -49,8 +50,14 @@ namespace TKR::Mortar
      */
     dealii::Tensor<1, 3> master_normal;
     /** Weighted gap g_j in mm^3; g_j / D_jj is a distance (mm): the mean
-     *  gap over the covered part of the support. */
+     *  gap over the covered part of the support plus gap_offset. */
     double weighted_gap = 0;
+    /**
+     * The edge offset (mm) included in weighted_gap / D_jj:
+     * MortarCoupling::edge_offset() of the covered fraction; 0 where at
+     * least half the support is covered.
+     */
+    double gap_offset = 0;
     /**
      * The master point that node j touches, sum_k M_jk x_k / sum_k M_jk
      * (current positions): the mortar projection of the node.
@@ -71,10 +78,9 @@ namespace TKR::Mortar
      *  D_jj if any part of the support is covered. */
     std::vector<std::pair<unsigned int, double>> M;
     /**
-     * True if the node may become active: its whole support is covered by
-     * projections of master faces, or the node itself projects onto the
-     * master surface and at least MortarCoupling::min_covered_fraction of
-     * its support is covered.
+     * True if the node may become active: at least
+     * MortarCoupling::min_covered_fraction of its support is covered by
+     * projections of master faces.
      */
     bool covered = false;
     /** The covered part of the support: int_covered phi_j / D_jj (0..1). */
@@ -162,31 +168,67 @@ namespace TKR::Mortar
    * On a fully covered slave face the test functions are the dual basis
    * psi_i = sum_k A_ik phi_k with A = D_e M_e^{-1} from that same
    * quadrature (so that biorthogonality, sum_k M_jk = D_jj and the exact
-   * reproduction of linear fields hold to round-off). On a partly covered
-   * face (the edge of the master surface) they are the standard shape
-   * functions phi_i, which are positive: g_j / D_jj is then a true
-   * (positively weighted) mean of the gap over the covered part, never an
-   * extrapolation. Each node's row is integrated over the covered part of
-   * its support (area D^c_j = int_covered phi_j) and then scaled by
-   * D_jj / D^c_j, a positive scaling of the node's constraint that does
-   * not change the discrete contact problem but keeps D_jj the nodal area.
+   * reproduction of linear fields hold to round-off). On a face less than
+   * dual_coverage (80 %) covered (the edge of the master surface) they are
+   * the standard shape functions phi_i, which are positive: g_j / D_jj is
+   * then a true (positively weighted) mean of the gap over the covered
+   * part, never an extrapolation. In between they are the blend
+   * t psi^dual + (1 - t) phi (dual_weight()), psi^dual from the covered
+   * part's quadrature, so that M and the gaps do not jump where a face's
+   * coverage reaches 1 (a jump of 1.5 % of the contact force on TKR A
+   * coarse when they switched there). Each node's row is integrated over the
+   * covered part of its support (area D^c_j = int_covered phi_j) and then
+   * scaled by D_jj / D^c_j, a positive scaling of the node's constraint that
+   * does not change the discrete contact problem but keeps D_jj the nodal area.
    *
-   * Edge rule: a node may become active (covered) if its whole support is
-   * covered, or if the node itself projects onto an (accepted) master face
-   * and at least min_covered_fraction of its support is covered. As in
-   * 4C/BACI (a slave node needs a feasible projection, "HasProj"), nodes
-   * outside the master surface are never active, and nodes inside it are
-   * never dropped, however little of their support is covered.
+   * Edge rule: a node whose covered fraction f_j = D^c_j / D_jj is at
+   * least full_constraint_fraction (1/2) has the full constraint; below it
+   * its gap is raised by the edge offset
+   * h(f) = l_j ((1/2 - f) / f)^2 (l_j = sqrt(D_jj), edge_offset()), which
+   * vanishes with its derivative at f = 1/2 and grows without bound as the
+   * coverage goes to zero. So a node that slides off the edge of the master
+   * surface carries a force that goes continuously to zero (the contact
+   * force is continuous in the pose; issue 33), instead of dropping the
+   * moment it stops projecting onto the master surface (4C/BACI's rule,
+   * "HasProj", which this replaced: a jump of 1 to 2 % of the contact
+   * force on TKR A coarse, tests/mortar/coupling_continuity). Nodes with
+   * less than min_covered_fraction covered are not covered (the offset is
+   * then above 10^5 l_j).
    */
   class MortarCoupling
   {
   public:
     /**
-     * Nodes that project onto the master surface but have less than this
-     * part of their support covered are not covered (a guard against
-     * round-off slivers; see the edge rule above).
+     * Nodes with less than this part of their support covered are not
+     * covered (a guard against round-off slivers; see the edge rule above).
      */
     static constexpr double min_covered_fraction = 1e-3;
+
+    /** Nodes with at least this part of their support covered have the
+     *  full constraint, no edge offset (see the edge rule above). */
+    static constexpr double full_constraint_fraction = 0.5;
+
+    /**
+     * The edge offset h(f) in mm of a node with the covered fraction
+     * @p fraction (> 0) and the length @p length (sqrt(D_jj), mm):
+     * length ((1/2 - f) / f)^2 below full_constraint_fraction, else 0.
+     */
+    static double
+    edge_offset(const double fraction, const double length);
+
+    /** Slave faces with at most this part of their projection covered use
+     *  the standard basis (see the class documentation). */
+    static constexpr double dual_coverage = 0.8;
+
+    /**
+     * The weight t of the dual basis in the test functions
+     * psi = t psi^dual + (1 - t) phi of a face with the covered part
+     * @p coverage of its projection: 0 up to dual_coverage, 1 at full
+     * coverage, the cubic smoothstep in between (continuous with its
+     * derivative).
+     */
+    static double
+    dual_weight(const double coverage);
 
     MortarCoupling(const ContactSurface &slave, const ContactSurface &master);
 
