@@ -8,6 +8,7 @@
 
 #include <deal.II/base/timer.h>
 
+#include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/lapack_full_matrix.h>
 
 #include <tkr/base/exceptions.h>
@@ -22,10 +23,10 @@ namespace TKR::Contact
 
   namespace
   {
-    /** Armijo's constant of the line search on the merit 1/2 |r|^2. */
-    constexpr double armijo = 1e-4;
-    /** The smallest step of the line search. */
-    constexpr double min_step = 1. / 64;
+    /** The line search's (strong Wolfe) curvature constant. */
+    constexpr double line_search_eta = 0.5;
+    /** Contact solutions per line search, at most. */
+    constexpr unsigned int max_line_search_steps = 8;
     /** The largest change of the pose per Newton iteration (mm). */
     constexpr double max_pose_step = 2.;
   } // namespace
@@ -238,21 +239,46 @@ namespace TKR::Contact
            system.step_size(dq) < 1e3;
   }
 
+  // G^-1 of the force columns' observations (PoseSystem::force_columns()):
+  // G^-1 S^-1 r is the unbalanced generalized force of a pose residual r.
+  FullMatrix<double>
+  CondensedActiveSetSolver::rigid_stiffness(const PoseSystem &system) const
+  {
+    const auto         rows    = system.residual_rows();
+    const auto         columns = system.force_columns();
+    const unsigned int m       = rows.size();
+    FullMatrix<double> G(m, m);
+    for (unsigned int p = 0; p < m; ++p)
+      for (unsigned int k = 0; k < m; ++k)
+        {
+          AssertIndexRange(columns[k], basis_columns.size() - 1);
+          G(p, k) = basis_columns[columns[k]].observations[rows[p].first];
+        }
+    FullMatrix<double> stiffness(m, m);
+    stiffness.invert(G);
+    return stiffness;
+  }
+
   // The iteration (doc/gait.md, "Pose and contact in one Newton"): the
   // contact solution at the starting pose (enough for a warm step whose
   // pose still holds); then, at the contact solution (lambda, q) of the
   // current pose, the Newton step of multipliers and pose together
-  // (pose_newton_direction()), and a backtracking line search along its
-  // pose part dq: at each trial pose the coupling and the contact solution
-  // there (the active set iteration from the current set: every iterate
-  // satisfies the contact conditions exactly), accepted when the merit
-  // 1/2 |r|^2 of the pose equations has decreased by Armijo's rule (the
-  // step of the pose at most max_pose_step). The contact solution's pose
-  // residual is continuous in the pose, smooth between changes of the
-  // active set: the merit decreases at every accepted step, so the
-  // iteration cannot cycle. A step that finds no decrease down to min_step
-  // is taken anyway and counted; one that finds no contact solution there
-  // ends the iteration, not converged.
+  // (pose_newton_direction()), and a line search along its pose part dq
+  // in the step's potential energy V(q) (the elastic energy and the work
+  // of the loads and springs at the contact solution of q). V is convex
+  // for small rotations, its gradient is continuous (the contact force is,
+  // item 2 of issue 33) and equals -G^-1 S^-1 r, so the slope of V along
+  // dq is known at every trial pose without V itself:
+  //   phi'(alpha) = -dq . G^-1 S^-1 r(q + alpha dq).
+  // The line search looks for |phi'(alpha)| <= eta |phi'(0)| (the strong
+  // Wolfe condition), from the full step (at most max_pose_step) by
+  // regula falsi on phi' (increasing in alpha): every accepted step
+  // lowers V, and a Newton direction that lies across a change of the
+  // active set (where the merit |r|^2 has a kink and its one-sided Newton
+  // directions point against each other) still lowers V. A direction
+  // that does not descend in V is replaced by S^-1 r (counted). The
+  // iteration ends when every |r_p| <= tolerance; a step that finds no
+  // contact solution near its start ends it, not converged.
   ContactStatistics
   CondensedActiveSetSolver::solve_with_pose(PoseSystem          &system,
                                             std::vector<double> &q,
@@ -262,11 +288,21 @@ namespace TKR::Contact
                                             ContactState   &state,
                                             PoseStatistics &pose_statistics)
   {
-    const auto merit = [](const PosePoint &p) {
-      double sum = 0;
-      for (const double r : p.residual)
-        sum += r * r;
-      return 0.5 * sum;
+    const auto               rows      = system.residual_rows();
+    const FullMatrix<double> stiffness = rigid_stiffness(system);
+    const auto               force     = [&](const PosePoint &p) {
+      Vector<double> displacement(rows.size()), f(rows.size());
+      for (unsigned int k = 0; k < rows.size(); ++k)
+        displacement(k) = p.residual[k] / rows[k].second;
+      stiffness.vmult(f, displacement);
+      return f;
+    };
+    const auto slope = [&](const PosePoint &p, const std::vector<double> &d) {
+      const Vector<double> f   = force(p);
+      double               sum = 0;
+      for (unsigned int k = 0; k < d.size(); ++k)
+        sum -= d[k] * f(k);
+      return sum;
     };
     const auto largest = [](const PosePoint &p) {
       double r_max = 0;
@@ -285,10 +321,30 @@ namespace TKR::Contact
            pose_statistics.n_iterations < max_iterations && !stuck)
       {
         ++pose_statistics.n_iterations;
-        const std::vector<double> dq =
+        std::vector<double> dq =
           pose_newton_direction(system, point, pose_statistics);
-        double alpha = std::min(1., max_pose_step / system.step_size(dq));
-        for (;;)
+        double slope_0 = slope(point, dq);
+        if (!(slope_0 < 0))
+          {
+            ++pose_statistics.n_descent_fallbacks;
+            for (unsigned int k = 0; k < dq.size(); ++k)
+              dq[k] = point.residual[k] / rows[k].second;
+            slope_0 = slope(point, dq);
+          }
+        // The bracket [low, high] of the step: phi'(low) < 0 (its
+        // solution kept), phi'(high) > eta |phi'(0)| or no contact
+        // solution there.
+        const double alpha_max =
+          std::min(1., max_pose_step / system.step_size(dq));
+        double            low = 0, slope_low = slope_0;
+        double            high = alpha_max, slope_high = 0;
+        bool              has_high = false;
+        PosePoint         low_point;
+        ContactState      low_state;
+        ContactStatistics low_statistics;
+        double            alpha    = alpha_max;
+        bool              accepted = false;
+        for (unsigned int n = 0; n < max_line_search_steps && !accepted; ++n)
           {
             std::vector<double> q_trial(q.size());
             for (unsigned int k = 0; k < q.size(); ++k)
@@ -306,28 +362,55 @@ namespace TKR::Contact
                 ++pose_statistics.n_solves;
                 solved = trial_statistics.converged;
               }
-            const bool decreased =
-              solved && merit(trial) <= (1 - 2 * armijo * alpha) * merit(point);
-            if (decreased || (solved && alpha <= min_step))
+            const double s = solved ? slope(trial, dq) : 0.;
+            if (solved && (std::abs(s) <= line_search_eta * std::abs(slope_0) ||
+                           (s < 0 && alpha == alpha_max)))
               {
-                pose_statistics.n_stalled_steps += !decreased;
                 point      = std::move(trial);
                 state      = std::move(trial_state);
                 statistics = trial_statistics;
+                accepted   = true;
                 break;
               }
-            // No contact solution down to the smallest step (no covered
-            // node, or an active set iteration that did not converge): the
-            // solve ends, not converged, at the last point.
-            if (alpha <= min_step)
+            if (solved && s < 0)
               {
-                stuck = true;
-                system.couple(point.q);
-                break;
+                low            = alpha;
+                slope_low      = s;
+                low_point      = std::move(trial);
+                low_state      = std::move(trial_state);
+                low_statistics = trial_statistics;
               }
-            alpha /= 2;
+            else
+              {
+                high       = alpha;
+                slope_high = s;
+                has_high   = solved;
+              }
+            // Regula falsi on phi' where both ends have a slope, else
+            // halving; never closer than a tenth of the bracket to an end.
+            const double width = high - low;
+            alpha              = has_high ?
+                                   low - slope_low * width / (slope_high - slope_low) :
+                                   0.5 * (low + high);
+            alpha = std::clamp(alpha, low + 0.1 * width, high - 0.1 * width);
             ++pose_statistics.n_step_cuts;
           }
+        if (accepted)
+          continue;
+        if (low > 0)
+          {
+            // The bracket's lower end lowers V: taken, counted.
+            ++pose_statistics.n_stalled_steps;
+            point      = std::move(low_point);
+            state      = std::move(low_state);
+            statistics = low_statistics;
+            system.couple(point.q);
+            continue;
+          }
+        // No contact solution, or no descent, near the start: the solve
+        // ends, not converged, at the last point.
+        stuck = true;
+        system.couple(point.q);
       }
     q                        = point.q;
     pose_statistics.residual = largest(point);

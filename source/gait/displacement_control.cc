@@ -175,6 +175,7 @@ namespace TKR::Gait
     const auto    names = tibia_pose.motion_observations();
     PoseEquations equations;
     equations.unknowns  = {0, 1};
+    equations.forces    = {TibiaPose::ml_force, TibiaPose::axial_force};
     equations.residuals = {{names[0].first, 1.}, {names[2].first, 1.}};
     return equations;
   }

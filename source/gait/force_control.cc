@@ -161,6 +161,10 @@ namespace TKR::Gait
     const auto    names = tibia_pose.motion_observations();
     PoseEquations equations;
     equations.unknowns  = {0, 1, 2, 5};
+    equations.forces    = {TibiaPose::ml_force,
+                           TibiaPose::ap_force,
+                           TibiaPose::axial_force,
+                           TibiaPose::ie_torque};
     equations.residuals = {{names[0].first, 1.},
                            {names[1].first, 1.},
                            {names[2].first, 1.},

@@ -48,6 +48,7 @@ namespace TKR::Problems
             rows.emplace_back(it - observation_names.begin(), scale);
           }
         AssertDimension(rows.size(), equations.unknowns.size());
+        AssertDimension(equations.forces.size(), equations.unknowns.size());
       }
 
       /** The protocol's pose for the unknowns @p q. */
@@ -124,6 +125,12 @@ namespace TKR::Problems
       residual_rows() const override
       {
         return rows;
+      }
+
+      std::vector<unsigned int>
+      force_columns() const override
+      {
+        return equations.forces;
       }
 
       // Each unknown in mm, as its equation measures it (a rotation at the

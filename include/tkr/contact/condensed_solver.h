@@ -4,6 +4,7 @@
 #ifndef tkr_contact_condensed_solver_h
 #define tkr_contact_condensed_solver_h
 
+#include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/lapack_full_matrix.h>
 #include <deal.II/lac/vector.h>
 
@@ -252,6 +253,13 @@ namespace TKR::Contact
                   const double      initial_distance,
                   PosePoint        &point,
                   ContactState     &state);
+
+    /**
+     * The stiffness G^-1 of the tray's rigid motions against the pose
+     * unknowns' unit forces (PoseSystem::force_columns()).
+     */
+    dealii::FullMatrix<double>
+    rigid_stiffness(const PoseSystem &system) const;
 
     /** du_0/dq and the master's velocity fields at @p point. */
     PoseDerivatives

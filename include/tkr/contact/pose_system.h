@@ -64,6 +64,17 @@ namespace TKR::Contact
     virtual std::vector<std::pair<unsigned int, double>>
     residual_rows() const = 0;
 
+    /**
+     * Per unknown q_k, the index of the solver's load basis column of the
+     * unit generalized force that q_k works against. The observations of
+     * these columns, G_pk = s_p^-1 r_p(K^-1 f_k), are the compliance of the
+     * tray's rigid motions (its restraint and stabilisation springs), and
+     * G^-1 S^-1 r is the force the pose equations leave unbalanced: minus
+     * the gradient of the potential energy of the step in the pose.
+     */
+    virtual std::vector<unsigned int>
+    force_columns() const = 0;
+
     /** The size of a change @p dq of the pose, in mm (e.g. at the rim). */
     virtual double
     step_size(const std::vector<double> &dq) const = 0;
@@ -84,6 +95,11 @@ namespace TKR::Contact
      * there).
      */
     unsigned int n_stalled_steps = 0;
+    /**
+     * Newton directions that did not descend in the potential energy and
+     * were replaced by the unbalanced displacement S^-1 r.
+     */
+    unsigned int n_descent_fallbacks = 0;
     /**
      * Newton matrices that were singular (no active node holds some pose
      * unknown) and were regularised.

@@ -70,7 +70,14 @@ namespace TKR::Gait
   {
     std::vector<unsigned int>                   unknowns;
     std::vector<std::pair<std::string, double>> residuals;
-    std::function<void(Pose &)>                 complete = [](Pose &) {};
+    /**
+     * Per unknown, the index in load_basis() of the unit generalized force
+     * it works against (a force along a translation, a torque about a
+     * rotation in N mm): the pose solve's line search weighs the pose
+     * equations by the compliance of these loads (doc/gait.md).
+     */
+    std::vector<unsigned int>   forces;
+    std::function<void(Pose &)> complete = [](Pose &) {};
   };
 
   /**

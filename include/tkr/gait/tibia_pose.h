@@ -138,6 +138,19 @@ namespace TKR::Gait
     std::vector<Elasticity::BoundaryLoads>
     load_basis() const;
 
+    /**
+     * Indices in load_basis() of its unit forces along x, y, z (N) and of
+     * its unit torque about z (N mm): the generalized forces that the pose
+     * unknowns x, y, z and theta work against.
+     */
+    enum UnitForce : unsigned int
+    {
+      axial_force = 0,
+      ap_force    = 1,
+      ie_torque   = 2,
+      ml_force    = 6
+    };
+
     /** The coefficients of the tractions of loads() on load_basis(). */
     std::vector<double>
     load_coefficients(const GaitState &gait, const PoseState &pose) const;
