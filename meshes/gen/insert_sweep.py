@@ -171,12 +171,15 @@ def split_rim(faces, groups, flat_tol, flat_normal):
     out, grp, rim = {}, dict(groups), []
     for s, (P, n) in faces.items():
         flat = (np.abs(P[..., 2] - z_min).max(axis=1) <= flat_tol) & (-n[:, 2] >= flat_normal)
-        m = (P[..., 2].max(axis=1) < reach) & (n[:, 2] < 0.3) & (np.abs(n[:, 2]) >= 0.15) & ~flat
+        # (a flat floor facing down above the base, a locking recess's, is no rim)
+        m = (P[..., 2].max(axis=1) < reach) & (n[:, 2] < 0.3) & (np.abs(n[:, 2]) >= 0.15) & ~flat \
+            & (-n[:, 2] < flat_normal)
         out[s] = (P, n)
         if not np.any(m):
             continue
-        if np.all(m) and groups.get(s) != "tibia_inferior":
-            rim.append(s)      # the whole face is rim
+        if np.all(m):
+            rim.append(s)      # the whole face is rim (a tibia_inferior one too: a base's rounded edge)
+            grp[s] = None
             continue
         out[s] = (P[~m], n[~m])
         out[s + 2000000] = (P[m], n[m])
