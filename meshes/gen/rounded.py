@@ -12,9 +12,10 @@ femur if the file name has "femur" in it, else insert) gets a locking recess: a 
 the base (leaving a rim); then its base edges (outline and recess mouth) and
 the recess floor's edges are rounded with radius --rim/2 .. --rim, the
 outline's top edges (side walls to the articular top) with --rim and its
-vertical corners with 1.5 --rim.  A femur gets its sharp edges rounded with
---rim/2 (each alone, those OpenCASCADE cannot round are left; the box and
-the cam of a posterior-stabilised femur stay).  The surface is then
+vertical corners with 1.5 --rim.  A femur keeps its edges (the box and the
+cam of a posterior-stabilised femur stay) unless --femur-rim is given: then
+its sharp edges are rounded with that radius (each alone, those
+OpenCASCADE cannot round are left).  The surface is then
 triangulated by gmsh with a size that varies irregularly over the body
 (--size times 0.6 .. 1.4, a smooth random field, finer on curvature): about
 20-50k triangles, as after a decimation; every vertex is moved by Gaussian
@@ -58,7 +59,7 @@ def edge_info(vol):
     return out
 
 
-ROUNDED = [0]   # edges rounded so far
+ROUNDED = [0]  # edges rounded so far
 
 
 def midpoint(e):
@@ -98,8 +99,9 @@ def fillet_each(vol, edges, radius):
         return vol
     # the edge tags of the unchanged volume stay valid: round a half, then
     # find the other half again by position
-    rest = [midpoint(e) for e in edges[len(edges) // 2:]]
-    vol = fillet_each(vol, edges[: len(edges) // 2], radius)
+    half = len(edges) // 2
+    rest = [midpoint(e) for e in edges[half:]]
+    vol = fillet_each(vol, edges[:half], radius)
     return fillet_each(vol, edges_at(rest), radius)
 
 
@@ -119,8 +121,12 @@ def round_insert(vol, rim, recess):
 
     def vertical(n):
         return abs(n[2]) < 0.1
-    outer = {f for f in set(sum((v["faces"] for v in info.values()), []))
-             if gmsh.model.getBoundingBox(2, f)[2] < lo[2] + 0.01}
+
+    outer = {
+        f
+        for f in set(sum((v["faces"] for v in info.values()), []))
+        if gmsh.model.getBoundingBox(2, f)[2] < lo[2] + 0.01
+    }
     base, floor, top, corner = [], [], [], []
     for e, v in info.items():
         z = v["mid"][2]
@@ -128,7 +134,7 @@ def round_insert(vol, rim, recess):
             continue
         nv = [vertical(n) for n in v["normals"]]
         if abs(np.dot(*v["normals"])) > 0.98:
-            continue      # tangent faces: nothing to round
+            continue  # tangent faces: nothing to round
         if z < lo[2] + 0.01:
             base.append(e)
         elif recess > 0 and abs(z - lo[2] - recess) < 0.01 and any(nv):
@@ -159,8 +165,17 @@ def triangulate(size, rng):
     varying smoothly and irregularly (random phases), finer on curvature."""
     a = rng.uniform(0, 2 * np.pi, 4)
     k = rng.uniform(0.08, 0.2, 4)
-    expr = ("%g*(1+0.2*sin(%g*x+%g)+0.1*sin(%g*y+%g)+0.1*sin(%g*z+%g)*sin(%g*x+%g))"
-            % (size, k[0], a[0], k[1], a[1], k[2], a[2], k[3], a[3]))
+    expr = "%g*(1+0.2*sin(%g*x+%g)+0.1*sin(%g*y+%g)+0.1*sin(%g*z+%g)*sin(%g*x+%g))" % (
+        size,
+        k[0],
+        a[0],
+        k[1],
+        a[1],
+        k[2],
+        a[2],
+        k[3],
+        a[3],
+    )
     f = gmsh.model.mesh.field.add("MathEval")
     gmsh.model.mesh.field.setString(f, "F", expr)
     gmsh.model.mesh.field.setAsBackgroundMesh(f)
@@ -190,15 +205,17 @@ def orient_outward(X, T):
     key = np.sort(E, axis=1)
     uniq, inv, cnt = np.unique(key, axis=0, return_inverse=True, return_counts=True)
     if (cnt != 2).any():
-        raise SystemExit("error: the surface is not closed and manifold (%d edges with %s triangles)"
-                         % ((cnt != 2).sum(), sorted(set(cnt[cnt != 2].tolist()))))
+        raise SystemExit(
+            "error: the surface is not closed and manifold (%d edges with %s triangles)"
+            % ((cnt != 2).sum(), sorted(set(cnt[cnt != 2].tolist())))
+        )
     owner = np.tile(np.arange(len(T)), 3)
     order = np.argsort(inv, kind="stable")
     pair = owner[order].reshape(-1, 2)
     fwd = (E[order][:, 0] == key[order][:, 0]).reshape(-1, 2)
     nbr = [[] for _ in range(len(T))]
     for (a, b), (fa, fb) in zip(pair, fwd):
-        same = fa == fb       # both use the edge in the same direction: opposite orientations
+        same = fa == fb  # both use the edge in the same direction: opposite orientations
         nbr[a].append((b, same))
         nbr[b].append((a, same))
     flip = np.full(len(T), -1)
@@ -228,6 +245,12 @@ def main(argv=None):
     ap.add_argument("--part", choices=("femur", "insert"), help="default: femur if the file name says so")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--rim", type=float, default=2.0, help="radius of the rounded rims, mm")
+    ap.add_argument(
+        "--femur-rim",
+        type=float,
+        default=0.0,
+        help="femur: radius of its rounded sharp edges, mm (default 0: not rounded)",
+    )
     ap.add_argument("--recess", type=float, default=3.0, help="insert: depth of the locking recess, mm (0: none)")
     ap.add_argument("--size", type=float, default=0.8, help="mean triangle edge, mm")
     ap.add_argument("--noise", type=float, default=0.005, help="mm")
@@ -239,13 +262,16 @@ def main(argv=None):
         # with other radii (x 1.5, 0.7, 2, then a femur without rounding;
         # deterministic)
         import subprocess
+
         for attempt in range(5):
-            res = subprocess.run([sys.executable, os.path.abspath(__file__)] + (argv or sys.argv[1:])
-                                 + ["--attempt", str(attempt)])
+            res = subprocess.run(
+                [sys.executable, os.path.abspath(__file__)] + (argv or sys.argv[1:]) + ["--attempt", str(attempt)]
+            )
             if res.returncode >= 0:
                 return res.returncode
         raise SystemExit("error: gmsh failed to triangulate %s five times" % a.input)
     a.rim *= (1.0, 1.5, 0.7, 2.0, 0.0)[a.attempt]
+    a.femur_rim *= (1.0, 1.5, 0.7, 2.0, 0.0)[a.attempt]
     rng = np.random.default_rng(a.seed)
     gmsh.initialize(["gmsh", "-v", "0"])
     try:
@@ -253,7 +279,7 @@ def main(argv=None):
         gmsh.model.occ.synchronize()
         vol = gmsh.model.getEntities(3)[0][1]
         insert = a.part == "insert" or (a.part is None and "femur" not in os.path.basename(a.input).lower())
-        vol = round_insert(vol, a.rim, a.recess) if insert else round_femur(vol, 0.5 * a.rim)
+        vol = round_insert(vol, a.rim, a.recess) if insert else round_femur(vol, a.femur_rim)
         X, T = triangulate(a.size, rng)
     finally:
         gmsh.finalize()
@@ -261,9 +287,16 @@ def main(argv=None):
     T = orient_outward(X, T)
     X = X + a.noise * rng.standard_normal(X.shape)
     write_stl_binary(a.output, X[T])
-    print("%s: %d triangles, %s, %d edges rounded, closed and manifold%s"
-          % (a.output, len(T), "insert" if insert else "femur", ROUNDED[0],
-             " (rims x %g: gmsh failed on the others)" % (1.0, 1.5, 0.7, 2.0, 0.0)[a.attempt] if a.attempt else ""))
+    print(
+        "%s: %d triangles, %s, %d edges rounded, closed and manifold%s"
+        % (
+            a.output,
+            len(T),
+            "insert" if insert else "femur",
+            ROUNDED[0],
+            " (rims x %g: gmsh failed on the others)" % (1.0, 1.5, 0.7, 2.0, 0.0)[a.attempt] if a.attempt else "",
+        )
+    )
 
 
 if __name__ == "__main__":
