@@ -15,7 +15,9 @@ Each body is meshed on its own; the two never share nodes.  --method:
   layer            a layer of prisms under the articular faces (--layers,
                    --layer-thickness, --layer-ratio) and tetrahedra inside,
                    each prism split into three hexahedra, each tetrahedron
-                   into four (contact_layer.py).  The articular faces get
+                   into four (contact_layer.py); on a repaired STL surface
+                   a layer that fails is tried again at half the depth,
+                   then the body is meshed as "split" (reported).  The articular faces get
                    --contact-size where they are within --refine-distance of
                    the other body's articular faces.
   split            tetrahedra everywhere (refined towards the articular
@@ -31,16 +33,20 @@ orientation, self-intersections removed locally or by an alpha wrap); its
 triangles are tagged from the pair's geometry (surface_tags.py: femur_contact
 = what faces and comes within --contact-distance of the insert as the femur
 flexes -5..60 deg about its estimated axis, tibia_contact = the insert's
-upward triangles near it, tibia_inferior/femur_fixation by the normal rules
+upward triangles near it, tibia_inferior = its downward triangles (n_z <
+-0.3) below three quarters of the articular zone's height (a rounded rim's
+lower half, a locking recess's floor), femur_fixation by the normal rule
 below), or from --femur-contact-stl/--insert-contact-stl patches; the
 surface is remeshed again (--contact-size on the contact triangles, --size/2
 elsewhere; for the femur, and the insert with --method layer, smaller, down
 to 0.56 --contact-size, while the result strays from the repaired surface by
 more than half --layer-thickness or folds),
 split into smooth patches at --patch-angle, each patch given the group most
-of it has (contact if a quarter of its area is; a patch whose rules disagree,
-such as base and walls joined by a rounded rim, keeps its triangles'
-groups), and the articular nodes put on a moving-least-squares surface
+of it has (contact if a quarter of its area is; a patch that joins contact
+and the other group, or has 5-25 % contact, split again at half the angle,
+twice; a patch whose rules still disagree, such as base and walls joined by
+a rounded rim, keeps its triangles' groups), and the articular nodes put on
+a moving-least-squares surface
 through the input's vertices (--smooth-radius).  --surface as-is: the STL goes straight to gmsh
 as below.
 
