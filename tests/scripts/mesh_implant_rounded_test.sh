@@ -9,9 +9,8 @@
 # concatenate", an internal error), tag the insert's underside from the
 # geometry (tibia_inferior within 15 % of the area of the input's triangles
 # facing down below mid-height: base, rims' lower halves, recess floor and
-# mouth) and put no quadrangle facing down into tibia_contact. The insert
-# cannot be swept (its base is not flat) and its contact layer folds at the
-# rounded top rim: it is meshed by the split fallback, which the log says.
+# mouth) and put no quadrangle facing down into tibia_contact. The insert is
+# swept, the columns inside the recess standing on its floor.
 # A and C: benchmarks/scan-inputs.sh. Argument: tkr-surface.
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/checks.sh"
@@ -58,5 +57,6 @@ PY
 }
 check "tibia_inferior is the underside, tibia_contact faces up" tags
 cat "$work/check.log"
-check "fallbacks reported" has "note: the contact layer of the tibia failed"
+check "insert swept, its columns standing on the recess floor" bash -c "grep -q 'tibia (swept columns)' mesh.log \
+  && grep -q 'of the base lie above it (a recess' mesh.log"
 exit $failed
