@@ -288,16 +288,6 @@ def build_layer(X, tris, face, ent, groups, layers, thickness, ratio, project):
         cn = [v for s, v in nrm[a].items() if s in c_faces]
         on = [(s, v) for s, v in nrm[a].items() if s not in c_faces]
         d = layer_direction(cn, [v for _, v in on])
-        if d is None and len(on) >= 2:
-            # a corner of several non-articular faces (small patches of a
-            # scan's rounded edges): slide inside one of them, the one
-            # turned furthest from the articular faces that admits it
-            m = np.mean(cn, axis=0)
-            for s, v in sorted(on, key=lambda sv: float(np.dot(sv[1], m))):
-                d = layer_direction(cn, [v])
-                if d is not None:
-                    on = [(s, v)]
-                    break
         if d is None:
             # a corner of several non-articular faces that admits no
             # direction inside all of them: straight in along the mean
