@@ -8,10 +8,11 @@ Each body is meshed on its own; the two never share nodes.  --method:
 
   auto (default)   the insert, if it is a flat base with vertical side walls
                    and an articular top that is a height field over the base
-                   (most fixed-bearing inserts), as structured columns under
-                   an O-grid of square cells (--sweep-size) in plan
-                   (insert_sweep.py); otherwise, and the femoral component
-                   always, as "layer".
+                   (most fixed-bearing inserts; on an STL the base may have
+                   a locking recess, whose floor the columns stand on), as
+                   structured columns under an O-grid of square cells
+                   (--sweep-size) in plan (insert_sweep.py); otherwise, and
+                   the femoral component always, as "layer".
   layer            a layer of prisms under the articular faces (--layers,
                    --layer-thickness, --layer-ratio) and tetrahedra inside,
                    each prism split into three hexahedra, each tetrahedron

@@ -189,9 +189,9 @@ def patches(tris, angle, min_area):
 def unfaithful(T, ref, tolerance, layer=None, reach=0.0):
     """None if the triangles T follow the reference surface ref (both T x 3
     x 3): every vertex of ref (within `reach` of the triangles `layer`, if
-    given) within `tolerance` of T, and no triangle of T facing away (normal more than 90 degrees) from all of the 8 reference
-    triangles nearest its centre (a fold); else what is wrong, and where,
-    in words."""
+    given) within `tolerance` of T, and no triangle of T facing away
+    (normal more than 90 degrees) from all of the 8 reference triangles
+    nearest its centre (a fold); else what is wrong, and where, in words."""
     from scipy.spatial import cKDTree
     import contact_layer
     P = np.unique(np.round(ref.reshape(-1, 3), 9), axis=0)
