@@ -8,7 +8,9 @@
 # A and B start from their STL exports (1.5 mm triangles), C from its STEP
 # file triangulated the same way (its STL export is chordal, up to 12 mm
 # triangles 0.44 mm off the CAD faces); the last row is that chordal export
-# as it is, with no scan defects.
+# as it is, with no scan defects; the "rounded" rows are the pairs of
+# meshes/gen/rounded.py (issue 33 item 3: the insert's rims rounded, a 3 mm
+# locking recess in its base, 30-55k irregular triangles, closed and manifold).
 #   benchmarks/scan-inputs.sh [--cycle] [WORKDIR]   (Release build in build/release)
 set -uo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -21,7 +23,7 @@ rot=0,1,0,0,0,1,1,0,0
 # name design options-for-scanlike options-for-mesh-implant
 cases=("a-mm a.stl --seed 3|" "b-mm b.stl --seed 3|" "c-mm c.step --seed 3|"
        "a-m a.stl --seed 4 --units m|--units m" "b-frame b.stl --seed 5 --rotation $rot|--rotation $rot"
-       "c-chordal c.stl as-is|")
+       "c-chordal c.stl as-is|" "a-rounded a.step rounded|" "b-rounded b.step rounded|" "c-rounded c.step rounded|")
 for c in "${cases[@]}"; do
   make=${c%%|*} mesh=${c#*|}
   read -r name design opts <<< "$make"
@@ -29,6 +31,10 @@ for c in "${cases[@]}"; do
     src=$root/meshes/tkr/cad/tkr-${design%.*}-$part.${design#*.}
     if [ "$opts" = as-is ]; then
       cp "$src" "$name-$part.stl"
+    elif [ "$opts" = rounded ]; then
+      # shellcheck disable=SC2046
+      /usr/bin/python3 "$root/meshes/gen/rounded.py" "$src" "$name-$part.stl" \
+        $([ $part = femur ] && echo "--seed 2 --size 1.1" || echo "--seed 1 --rim 1.5") > /dev/null 2>&1
     else
       # shellcheck disable=SC2086
       /usr/bin/python3 "$root/meshes/gen/scanlike.py" "$src" "$name-$part.stl" --duplicates 1 --holes 1 \

@@ -45,6 +45,8 @@ stencils and the nodal pressures of a conforming contact scatter by some
 30 %; inserts that allow it are therefore swept (insert_sweep.py).
 """
 import math
+import os
+import sys
 
 import numpy as np
 
@@ -303,7 +305,9 @@ def build_layer(X, tris, face, ent, groups, layers, thickness, ratio, project):
             target[a] = (-1, -1)
     if len(bad) > max(2, 0.002 * len(c_nodes)):
         raise RuntimeError("%d nodes of the articular faces have no direction into the body "
-                           "(a sharp edge next to them?), e.g. at %s" % (len(bad), bad[0]))
+                           "(a sharp edge next to them?), e.g. at %s; give the articular surface as its own "
+                           "STL (--femur-contact-stl, --insert-contact-stl) or try another --patch-angle"
+                           % (len(bad), bad[0]))
     level = {(a, 0): a for a in c_nodes}
     for k in range(1, layers + 1):
         for i, a in enumerate(c_nodes):
@@ -464,42 +468,78 @@ def morph_next_to_layer(body, tris, c_nodes, project, reach=4.0):
 
 
 # ------------------------------------------------------------------ core
+def in_child(fn, *args):
+    """fn(*args) in a forked process, its result returned (pickled through
+    a pipe), its exception raised again (a plain Exception, as gmsh's, or
+    RuntimeError).  gmsh 4.8 stays locked ("I'm busy! Ask me that later...",
+    every later mesh generation silently empty) after an exception inside
+    generate(): a mesher that may fail runs in a child."""
+    import pickle
+    sys.stdout.flush()
+    sys.stderr.flush()
+    r, w = os.pipe()
+    pid = os.fork()
+    if pid == 0:
+        os.close(r)
+        try:
+            res = ("ok", fn(*args))
+        except BaseException as e:  # noqa: B902 (everything goes back to the parent)
+            res = ("error", type(e).__name__, str(e))
+        with os.fdopen(w, "wb") as f:
+            f.write(pickle.dumps(res))
+        os._exit(0)
+    os.close(w)
+    with os.fdopen(r, "rb") as f:
+        data = f.read()
+    _, status = os.waitpid(pid, 0)
+    if not data:
+        raise RuntimeError("the tetrahedral mesher died (wait status %d)" % status)
+    res = pickle.loads(data)
+    if res[0] == "error":
+        raise (Exception if res[1] == "Exception" else RuntimeError)(res[2])
+    return res[1]
+
+
+def core_tets(X, T, size):
+    """gmsh's Delaunay tetrahedra inside the closed surface (X, T; tags
+    1..len(X)) in a new model: (tets, inner node tags, their coordinates,
+    surface node tags, their coordinates)."""
+    gmsh.model.add("core")
+    s = gmsh.model.addDiscreteEntity(2)
+    gmsh.model.mesh.addNodes(2, s, np.arange(1, len(X) + 1), X.reshape(-1))
+    gmsh.model.mesh.addElementsByType(s, 2, [], T.reshape(-1))
+    loop = gmsh.model.geo.addSurfaceLoop([s])
+    v = gmsh.model.geo.addVolume([loop])
+    gmsh.model.geo.synchronize()
+    gmsh.model.mesh.generate(3)
+    tets = []
+    for et, _, nt in zip(*gmsh.model.mesh.getElements(3, v)):
+        if et != 4:
+            raise RuntimeError("the core has elements of type %d" % et)
+        tets.append(np.array(nt, np.int64).reshape(-1, 4))
+    if not tets:
+        raise RuntimeError("gmsh made no tetrahedra in the core")
+    inner, coords, _ = gmsh.model.mesh.getNodes(3, v)
+    on_surface, xs, _ = gmsh.model.mesh.getNodes(2, s)
+    return np.concatenate(tets), inner, coords, on_surface, xs
+
+
 def mesh_core(body, size):
-    """Step 3: Delaunay tetrahedra in the core (a new gmsh model, removed
-    afterwards), with no new node on its boundary.  Appends the new nodes to
-    body.nodes and returns the tetrahedra (T x 4)."""
-    current = gmsh.model.getCurrent()
+    """Step 3: Delaunay tetrahedra in the core (a new gmsh model in a
+    child process: in_child()), with no new node on its boundary.  Appends
+    the new nodes to body.nodes and returns the tetrahedra (T x 4)."""
     used = np.unique(body.core_tris)
     local = -np.ones(len(body.nodes), np.int64)
     local[used] = np.arange(1, len(used) + 1)      # gmsh wants dense tags
-    gmsh.model.add("core")
-    try:
-        s = gmsh.model.addDiscreteEntity(2)
-        gmsh.model.mesh.addNodes(2, s, np.arange(1, len(used) + 1), body.nodes[used].reshape(-1))
-        gmsh.model.mesh.addElementsByType(s, 2, [], local[body.core_tris].reshape(-1))
-        loop = gmsh.model.geo.addSurfaceLoop([s])
-        v = gmsh.model.geo.addVolume([loop])
-        gmsh.model.geo.synchronize()
-        gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 1)
-        gmsh.option.setNumber("Mesh.MeshSizeMax", size)
-        gmsh.option.setNumber("Mesh.Algorithm3D", 1)
-        gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 0)
-        gmsh.model.mesh.generate(3)
-        tets = []
-        for et, _, nt in zip(*gmsh.model.mesh.getElements(3, v)):
-            if et != 4:
-                raise RuntimeError("the core has elements of type %d" % et)
-            tets.append(np.array(nt, np.int64).reshape(-1, 4))
-        tets = np.concatenate(tets)
-        inner, coords, _ = gmsh.model.mesh.getNodes(3, v)
-        on_surface, xs, _ = gmsh.model.mesh.getNodes(2, s)
-        if len(on_surface) != len(used) or not np.allclose(
-                xs.reshape(-1, 3)[np.argsort(on_surface)], body.nodes[used]):
-            raise RuntimeError("tetrahedral meshing of the core added %d boundary nodes"
-                               % (len(on_surface) - len(used)))
-    finally:
-        gmsh.model.remove()
-        gmsh.model.setCurrent(current)
+    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 1)
+    gmsh.option.setNumber("Mesh.MeshSizeMax", size)
+    gmsh.option.setNumber("Mesh.Algorithm3D", 1)
+    gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 0)
+    tets, inner, coords, on_surface, xs = in_child(core_tets, body.nodes[used], local[body.core_tris], size)
+    if len(on_surface) != len(used) or not np.allclose(
+            xs.reshape(-1, 3)[np.argsort(on_surface)], body.nodes[used]):
+        raise RuntimeError("tetrahedral meshing of the core added %d boundary nodes"
+                           % (len(on_surface) - len(used)))
     renum = {i + 1: int(v) for i, v in enumerate(used)}
     n = len(body.nodes)
     for i, t in enumerate(inner):

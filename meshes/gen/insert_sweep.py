@@ -171,18 +171,96 @@ def split_rim(faces, groups, flat_tol, flat_normal):
     out, grp, rim = {}, dict(groups), []
     for s, (P, n) in faces.items():
         flat = (np.abs(P[..., 2] - z_min).max(axis=1) <= flat_tol) & (-n[:, 2] >= flat_normal)
-        m = (P[..., 2].max(axis=1) < reach) & (n[:, 2] < 0.3) & (np.abs(n[:, 2]) >= 0.15) & ~flat
+        # (a flat floor facing down above the base, a locking recess's, is no rim)
+        m = (P[..., 2].max(axis=1) < reach) & (n[:, 2] < 0.3) & (np.abs(n[:, 2]) >= 0.15) & ~flat \
+            & (-n[:, 2] < flat_normal)
         out[s] = (P, n)
         if not np.any(m):
             continue
-        if np.all(m) and groups.get(s) != "tibia_inferior":
-            rim.append(s)      # the whole face is rim
+        if np.all(m):
+            rim.append(s)      # the whole face is rim (a tibia_inferior one too: a base's rounded edge)
+            grp[s] = None
             continue
         out[s] = (P[~m], n[~m])
         out[s + 2000000] = (P[m], n[m])
         grp[s + 2000000] = None
         rim.append(s + 2000000)
     return out, grp, rim
+
+
+def split_recess(faces, groups, flat_tol):
+    """STL: a base with a recess (a locking mechanism's pocket): the
+    tibia_inferior triangles higher than flat_tol above the base's lowest
+    point (the recess's floor) go into faces of their own (new ids, face +
+    3000000, no group), and, if there is such a floor, faces all of whose
+    triangles lie lower than three quarters of the top's lowest height and
+    are vertical (the recess's walls) are left out: the columns inside the recess stand on
+    its floor and ramp over one cell at its walls.  Base triangles that
+    rise from the base (a rounded edge's) go into faces of their own (face
+    + 4000000) that the sweep fills back like split_rim()'s.  Returns
+    (faces, groups, floor face ids, rim face ids)."""
+    base = [s for s in faces if groups.get(s) == "tibia_inferior"]
+    up = [P[n[:, 2] > 0.3][..., 2].min() for P, n in faces.values() if np.any(n[:, 2] > 0.3)]
+    if not base or not up:
+        return faces, groups, []
+    z_min = min(float(faces[s][0][..., 2].min()) for s in base)
+    reach = z_min + 0.75 * (float(min(up)) - z_min)
+    out, grp, floor, rim = {}, dict(groups), [], []
+    floor_seen = any(np.any(faces[s][0][..., 2].min(axis=1) > z_min + flat_tol) for s in base)
+    for s, (P, n) in faces.items():
+        if s in base:
+            # the floor: wholly above the base; a rim: from the base up (a
+            # rounded edge's coarse triangles, filled back like split_rim's)
+            up_ = (P[..., 2].min(axis=1) > z_min + flat_tol) & (P[..., 2].max(axis=1) < reach)
+            rising = ~up_ & (P[..., 2].max(axis=1) > z_min + flat_tol)
+            for m, new, ids in ((up_, s + 3000000, floor), (rising, s + 4000000, rim)):
+                if np.any(m):
+                    out[new] = (P[m], n[m])
+                    grp[new] = None
+                    ids.append(new)
+            keep = ~up_ & ~rising
+            if np.any(keep):
+                out[s] = (P[keep], n[keep])
+            continue
+        elif floor_seen and P[..., 2].max() < reach and np.all(np.abs(n[:, 2]) < 0.15):
+            continue        # a recess's wall (below the top; no plan area)
+        out[s] = (P, n)
+    return out, grp, floor, rim
+
+
+def outer_loop(segs):
+    """The segments of the closed loop that encloses the largest area (the
+    outline of a base with a recess: not the recess's own outlines)."""
+    def key(q):
+        return (round(float(q[0]), 6), round(float(q[1]), 6))
+    nxt = {}
+    for i, (a, b) in enumerate(segs):
+        nxt.setdefault(key(a), []).append(i)
+        nxt.setdefault(key(b), []).append(i)
+    used = np.zeros(len(segs), bool)
+    best, best_area = None, -1.0
+    for i0 in range(len(segs)):
+        if used[i0]:
+            continue
+        loop, p = [i0], key(segs[i0][1])
+        pts = [segs[i0][0], segs[i0][1]]
+        used[i0] = True
+        while True:
+            cand = [j for j in nxt.get(p, []) if not used[j]]
+            if not cand:
+                break
+            i = cand[0]
+            used[i] = True
+            loop.append(i)
+            a, b = segs[i]
+            q = b if key(a) == p else a
+            pts.append(q)
+            p = key(q)
+        pts = np.array(pts)
+        area = abs(0.5 * np.sum(pts[:, 0] * np.roll(pts[:, 1], -1) - np.roll(pts[:, 0], -1) * pts[:, 1]))
+        if area > best_area:
+            best, best_area = loop, area
+    return segs[best] if best is not None else segs
 
 
 # ------------------------------------------------------------------ top
@@ -205,9 +283,10 @@ class Top:
                 for by in range(int(math.floor(lo[t, 1] / cell)), int(math.floor(hi[t, 1] / cell)) + 1):
                     self.buckets.setdefault((bx, by), []).append(t)
 
-    def locate(self, p):
+    def locate(self, p, inside=False):
         """(triangle, z) of the top triangle above plan point p (the nearest
-        one if p is just outside all of them)."""
+        one if p is just outside all of them), and with inside=True whether
+        p is inside it (within 1e-6 of its edges)."""
         best, best_out = None, -np.inf
         b = (int(math.floor(p[0] / self.cell)), int(math.floor(p[1] / self.cell)))
         cands = []
@@ -228,8 +307,10 @@ class Top:
                 if m >= -1e-12:
                     break
         if best is None:
+            if inside:
+                return None, None, False
             raise NotSweepable("no top face above plan point (%.2f, %.2f)" % (p[0], p[1]))
-        return best
+        return (best[0], best[1], best_out >= -1e-6) if inside else best
 
     def faces(self, XY):
         """The top face above each plan point."""
@@ -455,6 +536,13 @@ def mesh_insert(vol, groups, h, cells, top_cell, cad, fine=None, smooth=None):
     if not cad:
         faces, groups = split_stl_faces(faces, groups)
         faces, groups, rim = split_rim(faces, groups, *flat)
+        faces, groups, floor, low_rim = split_recess(faces, groups, flat[0])
+        rim = rim + low_rim
+        if floor:
+            P = np.concatenate([faces[s][0] for s in floor])
+            print("note: %d triangles (%.1f mm2) of the base lie above it (a recess, up to z = %.1f mm): the "
+                  "columns there stand on them" % (len(P), triangle_areas(P).sum(), P[..., 2].max()))
+            rim = rim + floor
         if rim:
             P = np.concatenate([faces[s][0] for s in rim])
             print("note: %d triangles (%.1f mm2) of a rounded rim between the insert's base and walls "
@@ -464,9 +552,14 @@ def mesh_insert(vol, groups, h, cells, top_cell, cad, fine=None, smooth=None):
     P = np.concatenate([faces[s][0] for s in base])
     w = triangle_areas(P)
     c = (w[:, None] * P.mean(axis=1)[:, :2]).sum(axis=0) / w.sum()
-    segs = outline_segments(base) if cad else boundary_edges_2d(np.concatenate([P] + [faces[s][0] for s in rim]))
+    every = outline_segments(base) if cad else boundary_edges_2d(np.concatenate([P] + [faces[s][0] for s in rim]))
+    segs = every if cad or not floor else outer_loop(every)   # a recess's outlines are no outline
     tol = 1e-3 if cad else 0.5   # STL: chordal error of the walls
-    inner = [s for s in walls if plan_distance(faces[s][0][..., :2].reshape(-1, 2), segs).max() > tol]
+    # (a recess's walls stand on its outlines: no raised feature; on an STL
+    # most of a wall's corners must be inside: a rounded top rim's nearly
+    # vertical triangles lean 0.6 mm in)
+    inner = [s for s in walls if (np.max if cad else np.median)(
+        plan_distance(faces[s][0][..., :2].reshape(-1, 2), every)) > tol]
     feature = raised_feature(faces, inner, tol) if inner else None
     if fine is not None:
         n = np.cross(fine[:, 1] - fine[:, 0], fine[:, 2] - fine[:, 0])
@@ -508,13 +601,22 @@ def mesh_insert(vol, groups, h, cells, top_cell, cad, fine=None, smooth=None):
         Z = lo[..., None] + (hi - lo)[..., None] * t
         XY = np.broadcast_to(F[..., None, :], F.shape[:2] + (m + 1, 2))
         upper = np.concatenate([XY, Z[..., None]], axis=-1)
-    t_min = min(float((z - z0).min()) for z in columns)
+    # the columns' feet: z0, or a recess's floor where one is above
+    bottoms = [np.full(z.shape, z0) for z in columns]
+    if not cad and floor:
+        under = Top(faces, floor, False)
+        for B, zb in zip(blocks, bottoms):
+            for idx in np.ndindex(zb.shape):
+                t, h, inside = under.locate(B[idx], inside=True)
+                if inside:
+                    zb[idx] = h
+    t_min = min(float((z - zb).min()) for z, zb in zip(columns, bottoms))
     if t_min <= 0:
         raise NotSweepable("the top touches the base")
     sig = 1.0 - graded(cells, 1.0, min(top_cell / t_min, 1.0 / cells))[::-1]
     body = Body("tibia")
-    for n, (B, z) in enumerate(zip(blocks, columns)):
-        Z = z0 + (z - z0)[..., None] * sig
+    for n, (B, z, zb) in enumerate(zip(blocks, columns, bottoms)):
+        Z = zb[..., None] + (z - zb)[..., None] * sig
         XY = np.broadcast_to(B[..., None, :], B.shape[:2] + (cells + 1, 2))
         X = np.concatenate([XY, Z[..., None]], axis=-1)
         if n == 0 and upper is not None:

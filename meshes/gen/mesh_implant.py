@@ -8,14 +8,17 @@ Each body is meshed on its own; the two never share nodes.  --method:
 
   auto (default)   the insert, if it is a flat base with vertical side walls
                    and an articular top that is a height field over the base
-                   (most fixed-bearing inserts), as structured columns under
-                   an O-grid of square cells (--sweep-size) in plan
-                   (insert_sweep.py); otherwise, and the femoral component
-                   always, as "layer".
+                   (most fixed-bearing inserts; on an STL the base may have
+                   a locking recess, whose floor the columns stand on), as
+                   structured columns under an O-grid of square cells
+                   (--sweep-size) in plan (insert_sweep.py); otherwise, and
+                   the femoral component always, as "layer".
   layer            a layer of prisms under the articular faces (--layers,
                    --layer-thickness, --layer-ratio) and tetrahedra inside,
                    each prism split into three hexahedra, each tetrahedron
-                   into four (contact_layer.py).  The articular faces get
+                   into four (contact_layer.py); on a repaired STL surface
+                   a layer that fails is tried again at half the depth,
+                   then the body is meshed as "split" (reported).  The articular faces get
                    --contact-size where they are within --refine-distance of
                    the other body's articular faces.
   split            tetrahedra everywhere (refined towards the articular
@@ -31,16 +34,20 @@ orientation, self-intersections removed locally or by an alpha wrap); its
 triangles are tagged from the pair's geometry (surface_tags.py: femur_contact
 = what faces and comes within --contact-distance of the insert as the femur
 flexes -5..60 deg about its estimated axis, tibia_contact = the insert's
-upward triangles near it, tibia_inferior/femur_fixation by the normal rules
+upward triangles near it, tibia_inferior = its downward triangles (n_z <
+-0.3) below three quarters of the articular zone's height (a rounded rim's
+lower half, a locking recess's floor), femur_fixation by the normal rule
 below), or from --femur-contact-stl/--insert-contact-stl patches; the
 surface is remeshed again (--contact-size on the contact triangles, --size/2
 elsewhere; for the femur, and the insert with --method layer, smaller, down
 to 0.56 --contact-size, while the result strays from the repaired surface by
 more than half --layer-thickness or folds),
 split into smooth patches at --patch-angle, each patch given the group most
-of it has (contact if a quarter of its area is; a patch whose rules disagree,
-such as base and walls joined by a rounded rim, keeps its triangles'
-groups), and the articular nodes put on a moving-least-squares surface
+of it has (contact if a quarter of its area is; a patch that joins contact
+and the other group, or has 5-25 % contact, split again at half the angle,
+twice; a patch whose rules still disagree, such as base and walls joined by
+a rounded rim, keeps its triangles' groups), and the articular nodes put on
+a moving-least-squares surface
 through the input's vertices (--smooth-radius).  --surface as-is: the STL goes straight to gmsh
 as below.
 
@@ -288,11 +295,13 @@ def prepare_surfaces(args, tmpdir, log):
         final[role] = os.path.join(tmpdir, "%s-final.stl" % role)
         # the remeshed surface of a body that gets a contact layer (the
         # femur; the insert with --method layer) must follow the repaired
-        # one: within half the layer's depth (a feature it loses, such as a
-        # cam 1.5 mm under the condyles' surface, is crossed by the layer)
-        # and without triangles turned against it (folds); else again with
-        # smaller triangles (elsewhere down to --contact-size, then both by
-        # 0.75).  A swept insert takes its heights from the repaired surface.
+        # one: within half the layer's depth within two triangle sizes of the
+        # contact triangles (a feature it loses, such as a cam 1.5 mm under
+        # the condyles' surface, is crossed by the layer) and without
+        # triangles turned against it (folds); else again with smaller
+        # triangles (elsewhere down to --contact-size, then both by 0.75),
+        # and if none is faithful the repaired surface as it is.  A swept
+        # insert takes its heights from the repaired surface.
         layered = role == "femur" or args.method == "layer"
         sizes = [(max(args.contact_size, 0.5 * args.size), args.contact_size)]
         if layered:
@@ -307,7 +316,10 @@ def prepare_surfaces(args, tmpdir, log):
                                     "--wrap-alpha", str(0.5 * args.surface_size)],
                              {clean[role]: "the repaired surface", contact: "its contact triangles"}, log)
             T = read_stl(final[role])
-            fault = surface_tags.unfaithful(T, tris[role], 0.5 * args.layer_thickness) if layered else None
+            fault = (surface_tags.unfaithful(T, tris[role], 0.5 * args.layer_thickness,
+                                             layer=tris[role][labels[role] == surface_tags.CONTACT],
+                                             reach=2.0 * size)
+                     if layered else None)
             if fault is None:
                 break
             line = "surface %s: the remeshed surface %s" % (role, fault)
@@ -316,13 +328,20 @@ def prepare_surfaces(args, tmpdir, log):
             print(line)
             log.append(line)
         else:
-            raise SystemExit("error: the surface of the %s cannot be remeshed faithfully down to %g mm triangles "
-                             "(%s); try a smaller --contact-size and --size, or a cleaner input"
-                             % (role, sizes[-1][1], fault))
+            # a closed, manifold surface always has a faithful remesh: the
+            # repaired one itself (--surface-size triangles, more cells)
+            line = ("surface %s: no remesh down to %g mm triangles is faithful (%s); the repaired surface "
+                    "(--surface-size %g mm) is meshed as it is (a larger --layer-thickness or a smaller "
+                    "--contact-size may allow fewer cells)" % (role, sizes[-1][1], fault, args.surface_size))
+            print(line)
+            log.append(line)
+            T = tris[role].copy()
+            write_stl_binary(final[role], T)
         _, nearest = cKDTree(tris[role].mean(axis=1)).query(T.mean(axis=1))
         a = 0.5 * np.linalg.norm(np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]), axis=1)
         patch = surface_tags.patches(T, args.patch_angle, 2.0 * args.contact_size ** 2)
-        uniform = surface_tags.by_patch(labels[role][nearest], patch, a)
+        uniform = surface_tags.group_patches(T, labels[role][nearest], patch, a, args.patch_angle,
+                                             2.0 * args.contact_size ** 2)
         patch = surface_tags.split_mixed(T, patch, uniform)
         # the articular triangles' corners onto the smooth surface through
         # the given vertices (SmoothSurface)
@@ -660,10 +679,41 @@ class Part:
                                        self.fine_faces, self.smooth)
 
 
-def mesh_body(role, path, args, tmpdir, linear=False):
+def mesh_part_robust(part, args, tmpdir, near):
+    """Part.mesh(); where the contact layer of a repaired STL surface fails
+    (its prisms fold, its nodes find no direction, or its side walls cross
+    a nearby face: a scan's rounded edges next to the articular faces give
+    the layer's border small faces to slide in), the body is meshed again
+    with a layer of half the depth, then by --method split with
+    straight-sided subdivision (reported).  Returns (nodes, hexes,
+    surfaces) and the method in words."""
+    import copy
+    notes = []
+    again = copy.copy(args)
+    for thickness in (0.5 * args.layer_thickness, None):
+        try:
+            out = part.mesh(again, near)
+            return out, "; ".join([part.method] + notes + part.notes)
+        except Exception as e:
+            if part.cad or part.role not in getattr(args, "tagged", {}) or args.method == "split":
+                raise
+            why = gmsh_failure(e).replace("error: gmsh: ", "gmsh: ") if type(e) is Exception else str(e)
+        note = ("note: the contact layer of the %s failed (%s); meshing it again %s"
+                % (part.role, why, "with --layer-thickness %g" % thickness if thickness else
+                   "by --method split (tetrahedra split into hexahedra, straight-sided)"))
+        print(note)
+        notes.append(note.replace("note: ", ""))
+        part.notes = []
+        again.layer_thickness = thickness
+    gmsh.model.setCurrent(part.role)
+    return mesh_body(part.role, part.path, args, tmpdir, linear=True, part=part), \
+        "; ".join(["split tetrahedra"] + notes)
+
+
+def mesh_body(role, path, args, tmpdir, linear=False, part=None):
     """--method split: tetrahedra refined towards the articular faces, each
-    split into four hexahedra by gmsh."""
-    part = Part(role, path, args, tmpdir)
+    split into four hexahedra by gmsh (in `part`'s model if given)."""
+    part = part or Part(role, path, args, tmpdir)
     vol, groups = part.vol, part.groups
     # pass 2: graded tetrahedra, split into hexahedra
     contact = [s for s, g in groups.items() if g in ("femur_contact", "tibia_contact")]
@@ -865,7 +915,7 @@ def main(argv=None):
     try:
         with tempfile.TemporaryDirectory() as tmpdir:
             check_frame(args)
-            surface_log = []
+            surface_log, methods = [], {}
             if stl_remesh:
                 prepare_surfaces(args, tmpdir, surface_log)
             if args.method == "split":
@@ -875,9 +925,8 @@ def main(argv=None):
             else:
                 parts = [Part("femur", args.femur, args, tmpdir), Part("tibia", args.insert, args, tmpdir)]
                 near = [p.articular_points(1.5) for p in parts]
-                fem = parts[0].mesh(args, near[1])
-                tib = parts[1].mesh(args, near[0])
-                methods = {p.role: "; ".join([p.method] + p.notes) for p in parts}
+                fem, methods["femur"] = mesh_part_robust(parts[0], args, tmpdir, near[1])
+                tib, methods["tibia"] = mesh_part_robust(parts[1], args, tmpdir, near[0])
     finally:
         gmsh.finalize()
     report = ["mesh-implant report (meshes/gen/mesh_implant.py)", "",
@@ -948,6 +997,8 @@ def run(argv=None):
     except Exception as exc:  # gmsh raises plain Exception
         if type(exc) is Exception:
             raise SystemExit(gmsh_failure(exc))
+        if isinstance(exc, RuntimeError) and " --" in str(exc):
+            raise SystemExit("error: %s" % exc)     # the mesher's own refusal, naming the option to change
         raise SystemExit("error: %s: %s (an internal error of mesh-implant; please report it with the "
                          "command line)" % (type(exc).__name__, exc))
 

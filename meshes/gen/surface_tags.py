@@ -13,8 +13,9 @@ proximal; tkr-surface's output), without any CAD faces.
                   lowered along z until it touches the insert;
   tibia_contact   the insert's triangles facing up (n_z > 0.3) that come
                   within DISTANCE mm of the femur in one of those poses;
-  tibia_inferior  the insert's triangles facing down (n_z < -0.9) within 5 %
-                  of its height of its lowest point;
+  tibia_inferior  the insert's triangles facing down (n_z < -0.3) lower than
+                  three quarters of the height of the articular zone (the
+                  tibia_contact triangles) above its lowest point;
   femur_fixation  the femur's other triangles that face the bone: outward
                   normal towards the centre of the femur's bounding box,
                   except the medial/lateral sides (|n_x| > 0.8) and the
@@ -116,10 +117,19 @@ def tag_femur(tris, contact):
 
 
 def tag_insert(tris, contact):
+    """tibia_inferior: the triangles facing down (n_z < -0.3) below three
+    quarters of the height of the articular zone's lowest point (the
+    contact triangles) above the insert's lowest point: a flat base, its
+    rounded rim's lower half, a locking recess's floor and mouth, whatever
+    the smooth patches are (a scan's rounded rim joins them all)."""
     c, n = normals(tris)
-    lo, hi = tris.reshape(-1, 3).min(axis=0), tris.reshape(-1, 3).max(axis=0)
+    lo = tris.reshape(-1, 3).min(axis=0)
     labels = np.full(len(tris), UNTAGGED)
-    labels[(n[:, 2] < -0.9) & (c[:, 2] < lo[2] + 0.05 * (hi[2] - lo[2]))] = OTHER
+    if contact.any():
+        reach = lo[2] + 0.75 * (tris[contact][..., 2].min() - lo[2])
+    else:
+        reach = lo[2] + 0.05 * (tris[..., 2].max() - lo[2])
+    labels[(n[:, 2] < -0.3) & (c[:, 2] < reach)] = OTHER
     labels[contact] = CONTACT
     return labels
 
@@ -176,18 +186,25 @@ def patches(tris, angle, min_area):
     return np.unique(patch, return_inverse=True)[1]
 
 
-def unfaithful(T, ref, tolerance):
+def unfaithful(T, ref, tolerance, layer=None, reach=0.0):
     """None if the triangles T follow the reference surface ref (both T x 3
-    x 3): every vertex of ref within `tolerance` of T, and no triangle of T
-    facing away (normal more than 90 degrees) from all of the 8 reference
-    triangles nearest its centre (a fold); else what is wrong, and where,
-    in words."""
+    x 3): every vertex of ref (within `reach` of the triangles `layer`, if
+    given) within `tolerance` of T, and no triangle of T facing away
+    (normal more than 90 degrees) from all of the 8 reference triangles
+    nearest its centre (a fold); else what is wrong, and where, in words."""
     from scipy.spatial import cKDTree
     import contact_layer
     P = np.unique(np.round(ref.reshape(-1, 3), 9), axis=0)
-    Q = contact_layer.surface_projector({0: T})(2, 0, P)
-    d = np.linalg.norm(P - Q, axis=1)
-    if d.max() > tolerance:
+    if layer is not None and len(layer):
+        # only where the contact layer is (the triangles `layer`, within
+        # `reach`): a rounded proximal edge cut by coarse triangles harms no layer
+        d, _ = cKDTree(layer.reshape(-1, 3)).query(P)
+        P = P[d < reach]
+    d = np.zeros(0)
+    if len(P):
+        Q = contact_layer.surface_projector({0: T})(2, 0, P)
+        d = np.linalg.norm(P - Q, axis=1)
+    if len(d) and d.max() > tolerance:
         return ("strays %.2f mm from the repaired surface at (%.1f, %.1f, %.1f) (more than %g mm)"
                 % ((d.max(),) + tuple(P[np.argmax(d)]) + (tolerance,)))
     c, n = normals(T)
@@ -220,6 +237,39 @@ def by_patch(labels, patch, area, contact_fraction=0.25, mixed=0.8):
             out[m] = best
         else:
             out[m] = np.where(labels[m] == CONTACT, best, labels[m])
+    return out
+
+
+def group_patches(tris, labels, patch, area, angle, min_area, levels=2, significant=0.05,
+                  contact_fraction=0.25):
+    """Labels made uniform per patch (by_patch()), except on a patch that
+    joins the articular surface to the other group's (both with at least
+    `significant` of its area and min_area mm2: a scan's rounded rims join
+    an insert's top, sides and base, or a femur's condyles and bone side,
+    in one smooth surface) or whose contact part is significant but under
+    contact_fraction (condyles joined to the sides: by_patch() would drop
+    it): such a patch is split into smooth patches at half the angle
+    (`levels` times), so that the groups meet at its sharpest creases (the
+    contact layer needs an edge at its border), and at the end keeps its
+    triangles' labels (both groups) or follows by_patch() (contact and
+    untagged only: a strip of a wall next to a contact patch stays
+    untagged)."""
+    out = np.empty_like(labels)
+    for k in np.unique(patch):
+        m = patch == k
+        a = np.array([area[m & (labels == c)].sum() for c in (UNTAGGED, CONTACT, OTHER)])
+        sig = max(significant * a.sum(), min_area)
+        both = a[CONTACT] >= sig and a[OTHER] >= sig
+        if not both and not sig <= a[CONTACT] < contact_fraction * a.sum():
+            out[m] = by_patch(labels[m], np.zeros(m.sum(), int), area[m], contact_fraction)
+        elif levels > 0:
+            sub = patches(tris[m], 0.5 * angle, min_area)
+            out[m] = group_patches(tris[m], labels[m], sub, area[m], 0.5 * angle, min_area, levels - 1,
+                                   significant, contact_fraction)
+        elif both:
+            out[m] = labels[m]
+        else:
+            out[m] = by_patch(labels[m], np.zeros(m.sum(), int), area[m], contact_fraction)
     return out
 
 
