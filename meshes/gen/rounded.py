@@ -30,7 +30,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from mesh_implant import write_stl_binary  # noqa: E402
-from scanlike import indexed  # noqa: E402
+from scanlike import indexed, surface_mesh  # noqa: E402
 
 import gmsh  # noqa: E402
 
@@ -186,15 +186,7 @@ def triangulate(size, rng):
     gmsh.option.setNumber("Mesh.MeshSizeMin", 0.25 * size)
     gmsh.option.setNumber("Mesh.Algorithm", 6)
     gmsh.model.mesh.generate(2)
-    tags, coords, _ = gmsh.model.mesh.getNodes()
-    X = np.zeros((int(tags.max()) + 1, 3))
-    X[tags.astype(np.int64)] = coords.reshape(-1, 3)
-    tris = []
-    for _, s in gmsh.model.getEntities(2):
-        for et, _, nt in zip(*gmsh.model.mesh.getElements(2, s)):
-            if et == 2:
-                tris.append(np.array(nt, np.int64).reshape(-1, 3))
-    return X, np.concatenate(tris)
+    return surface_mesh(gmsh)
 
 
 def orient_outward(X, T):

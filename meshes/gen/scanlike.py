@@ -74,17 +74,24 @@ def triangulate_step(path, size=1.5):
         gmsh.option.setNumber("Mesh.MeshSizeMax", size)
         gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 12)
         gmsh.model.mesh.generate(2)
-        tags, coords, _ = gmsh.model.mesh.getNodes()
-        X = np.zeros((int(tags.max()) + 1, 3))
-        X[tags.astype(np.int64)] = coords.reshape(-1, 3)
-        tris = []
-        for _, s in gmsh.model.getEntities(2):
-            for et, _, nt in zip(*gmsh.model.mesh.getElements(2, s)):
-                if et == 2:
-                    tris.append(np.array(nt, np.int64).reshape(-1, 3))
-        return X[np.concatenate(tris)]
+        X, T = surface_mesh(gmsh)
+        return X[T]
     finally:
         gmsh.finalize()
+
+
+def surface_mesh(gmsh):
+    """The current gmsh model's nodes (indexed by tag) and its 3-node
+    triangles as node indices."""
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    X = np.zeros((int(tags.max()) + 1, 3))
+    X[tags.astype(np.int64)] = coords.reshape(-1, 3)
+    tris = []
+    for _, s in gmsh.model.getEntities(2):
+        for et, _, nt in zip(*gmsh.model.mesh.getElements(2, s)):
+            if et == 2:
+                tris.append(np.array(nt, np.int64).reshape(-1, 3))
+    return X, np.concatenate(tris)
 
 
 def main(argv=None):
