@@ -633,6 +633,12 @@ def mesh_insert(vol, groups, h, cells, top_cell, cad, fine=None, smooth=None):
         body.add(upper, {"kmax": "top", "imin": "inner wall", "imax": "inner wall",
                          "jmin": "inner wall", "jmax": "inner wall"})
     nodes, hexes, surfaces = body.assemble()
+    if not cad and floor:
+        # only the seat bears on the tray: the feet on a recess's floor and
+        # its ramps stay traction free (tkr-wear's rigid tray needs a flat
+        # tibia_inferior)
+        q = surfaces["tibia_inferior"]
+        surfaces["tibia_inferior"] = q[(nodes[q][..., 2] == z0).all(axis=1)]
     # the top quadrangles take the group of the face under their centre
     q = surfaces.pop("top")
     cen = nodes[q].mean(axis=1)
