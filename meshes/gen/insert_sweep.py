@@ -153,6 +153,18 @@ def split_stl_faces(faces, groups, vertical=0.15):
     return out, grp
 
 
+def base_reach(faces, groups):
+    """The tibia_inferior face ids, the base's lowest height z_min and the
+    height three quarters of the way from it to the top's lowest point
+    (triangles facing up); ([], None, None) without a base or a top."""
+    base = [s for s in faces if groups.get(s) == "tibia_inferior"]
+    up = [P[n[:, 2] > 0.3][..., 2].min() for P, n in faces.values() if np.any(n[:, 2] > 0.3)]
+    if not base or not up:
+        return [], None, None
+    z_min = min(float(faces[s][0][..., 2].min()) for s in base)
+    return base, z_min, z_min + 0.75 * (float(min(up)) - z_min)
+
+
 def split_rim(faces, groups, flat_tol, flat_normal):
     """STL: the triangles near the base that are neither flat base, nor
     vertical wall, nor facing up: a rim between base and walls rounded by
@@ -162,12 +174,9 @@ def split_rim(faces, groups, flat_tol, flat_normal):
     base and rim together.  Only triangles lower than three quarters of the
     lowest height of the top above the base count.  Returns (faces, groups, rim
     face ids)."""
-    base = [s for s in faces if groups.get(s) == "tibia_inferior"]
-    up = [P[n[:, 2] > 0.3][..., 2].min() for P, n in faces.values() if np.any(n[:, 2] > 0.3)]
-    if not base or not up:
+    base, z_min, reach = base_reach(faces, groups)
+    if not base:
         return faces, groups, []
-    z_min = min(float(faces[s][0][..., 2].min()) for s in base)
-    reach = z_min + 0.75 * (float(min(up)) - z_min)
     out, grp, rim = {}, dict(groups), []
     for s, (P, n) in faces.items():
         flat = (np.abs(P[..., 2] - z_min).max(axis=1) <= flat_tol) & (-n[:, 2] >= flat_normal)
@@ -199,12 +208,9 @@ def split_recess(faces, groups, flat_tol):
     rise from the base (a rounded edge's) go into faces of their own (face
     + 4000000) that the sweep fills back like split_rim()'s.  Returns
     (faces, groups, floor face ids, rim face ids)."""
-    base = [s for s in faces if groups.get(s) == "tibia_inferior"]
-    up = [P[n[:, 2] > 0.3][..., 2].min() for P, n in faces.values() if np.any(n[:, 2] > 0.3)]
-    if not base or not up:
-        return faces, groups, []
-    z_min = min(float(faces[s][0][..., 2].min()) for s in base)
-    reach = z_min + 0.75 * (float(min(up)) - z_min)
+    base, z_min, reach = base_reach(faces, groups)
+    if not base:
+        return faces, groups, [], []
     out, grp, floor, rim = {}, dict(groups), [], []
     floor_seen = any(np.any(faces[s][0][..., 2].min(axis=1) > z_min + flat_tol) for s in base)
     for s, (P, n) in faces.items():
