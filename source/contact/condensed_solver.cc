@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <iomanip>
 #include <limits>
 #include <map>
@@ -40,26 +41,119 @@ namespace TKR::Contact
     surface_dofs    = Mortar::surface_dof_indices(coupling);
     n_slave_values  = 3 * coupling.slave_surface().nodes().size();
     n_master_values = surface_dofs.size() - n_slave_values;
-    clear_columns();
+    const std::uint64_t fingerprint = master_fingerprint();
+    clear_columns(!node_columns.empty() && fingerprint == master_block);
+    master_block = fingerprint;
   }
 
   void
-  CondensedActiveSetSolver::clear_columns()
+  CondensedActiveSetSolver::clear_columns(const bool keep_master)
   {
-    node_columns.assign(coupling.slave_surface().nodes().size() +
-                          coupling.master_surface().nodes().size(),
-                        {});
+    const unsigned int n_slave_nodes = coupling.slave_surface().nodes().size();
+    if (keep_master)
+      std::fill(node_columns.begin(),
+                node_columns.begin() + n_slave_nodes,
+                std::array<Column, 3>());
+    else
+      node_columns.assign(n_slave_nodes +
+                            coupling.master_surface().nodes().size(),
+                          {});
     n_stored_columns = 0;
+    for (auto &columns : node_columns)
+      for (Column &column : columns)
+        {
+          column.observations.clear();
+          n_stored_columns += !column.surface.empty();
+        }
     basis_rhs.clear();
     basis_columns.clear();
   }
 
+  // The master body's block of K is K restricted to the DoFs of the cells
+  // of its material (the bodies share no DoFs); its columns vanish on the
+  // slave body, so they need nothing else.
+  std::uint64_t
+  CondensedActiveSetSolver::master_fingerprint()
+  {
+    const DoFHandler<3>          &dof_handler = elasticity.get_dof_handler();
+    const types::global_dof_index master_dof =
+      coupling.master_surface().nodes().front().dofs[0];
+    std::vector<types::global_dof_index> cell_dofs(
+      dof_handler.get_fe().n_dofs_per_cell());
+    types::material_id body = numbers::invalid_material_id;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        cell->get_dof_indices(cell_dofs);
+        if (std::find(cell_dofs.begin(), cell_dofs.end(), master_dof) !=
+            cell_dofs.end())
+          {
+            body = cell->material_id();
+            break;
+          }
+      }
+    std::vector<types::global_dof_index> dofs;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->material_id() == body)
+        {
+          cell->get_dof_indices(cell_dofs);
+          dofs.insert(dofs.end(), cell_dofs.begin(), cell_dofs.end());
+        }
+    std::sort(dofs.begin(), dofs.end());
+    dofs.erase(std::unique(dofs.begin(), dofs.end()), dofs.end());
+    master_body_dofs = IndexSet(dof_handler.n_dofs());
+    master_body_dofs.add_indices(dofs.begin(), dofs.end());
+    master_body_dofs = master_body_dofs & elasticity.locally_owned_dofs();
+
+    // FNV-1a over the values' bytes
+    std::uint64_t hash = 14695981039346656037ull;
+    const auto    mix  = [&hash](const auto value) {
+      unsigned char bytes[sizeof(value)];
+      std::memcpy(bytes, &value, sizeof(value));
+      for (const unsigned char b : bytes)
+        hash = (hash ^ b) * 1099511628211ull;
+    };
+    const TrilinosWrappers::SparseMatrix &K = system.matrix();
+    for (const auto row : master_body_dofs)
+      for (auto entry = K.begin(row); entry != K.end(row); ++entry)
+        {
+          mix(entry->column());
+          mix(entry->value());
+        }
+    for (unsigned int i = n_slave_values; i < surface_dofs.size(); ++i)
+      {
+        mix(surface_dofs[i]);
+        if (const auto *entries =
+              dirichlet.get_constraint_entries(surface_dofs[i]))
+          for (const auto &[k, weight] : *entries)
+            {
+              mix(k);
+              mix(weight);
+            }
+        mix(dirichlet.is_constrained(surface_dofs[i]));
+      }
+    const std::vector<std::uint64_t> hashes =
+      Utilities::MPI::all_gather(mpi_communicator, hash);
+    for (const std::uint64_t h : hashes)
+      mix(h);
+    return hash;
+  }
+
+  // The columns' observations are recomputed, except those of the kept
+  // master columns when the weights vanish on the master body: then they
+  // are zero (the columns vanish on the slave body).
   unsigned int
   CondensedActiveSetSolver::add_observation(
     const TrilinosWrappers::MPI::Vector &weights)
   {
-    const unsigned int index = ContactSolver::add_observation(weights);
-    clear_columns();
+    const unsigned int index     = ContactSolver::add_observation(weights);
+    double             on_master = 0;
+    for (const auto i : master_body_dofs)
+      on_master = std::max(on_master, std::abs(weights[i]));
+    clear_columns(Utilities::MPI::max(on_master, mpi_communicator) == 0);
+    for (auto &columns : node_columns)
+      for (Column &column : columns)
+        if (!column.surface.empty())
+          column.observations.assign(observation_weights.size(), 0.);
     return index;
   }
 

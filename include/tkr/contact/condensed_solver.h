@@ -4,6 +4,8 @@
 #ifndef tkr_contact_condensed_solver_h
 #define tkr_contact_condensed_solver_h
 
+#include <deal.II/base/index_set.h>
+
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/lapack_full_matrix.h>
 #include <deal.II/lac/vector.h>
@@ -14,6 +16,7 @@
 #include <tkr/mortar/mortar_operator.h>
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 namespace TKR::Contact
@@ -154,9 +157,21 @@ namespace TKR::Contact
       double peak = 0;
     };
 
-    /** Forget all stored columns. */
+    /**
+     * Forget the stored columns; with @p keep_master, the master body's
+     * columns stay (their surface values: their observations go, as the
+     * observations do at setup()).
+     */
     void
-    clear_columns();
+    clear_columns(const bool keep_master = false);
+
+    /**
+     * A fingerprint (64-bit hash over all ranks) of what the master body's
+     * columns depend on: its rows of K (columns and values), its surface
+     * DoFs and their constraints. Also sets master_body_dofs.
+     */
+    std::uint64_t
+    master_fingerprint();
 
     /** Compute the columns of the surface nodes @p nodes (x, y, z each). */
     void
@@ -359,6 +374,14 @@ namespace TKR::Contact
      */
     std::vector<std::array<Column, 3>> node_columns;
     unsigned int                       n_stored_columns = 0;
+    /**
+     * The master body's block of K does not change when only the slave
+     * body's geometry does (the wear of the insert): its columns are kept
+     * over setup() while master_fingerprint() stays the same.
+     */
+    std::uint64_t master_block = 0;
+    /** The locally owned DoFs of the master body's cells. */
+    dealii::IndexSet master_body_dofs;
 
     /**
      * The load basis: its right-hand sides (with the Dirichlet part in the
