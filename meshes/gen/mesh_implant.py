@@ -36,7 +36,9 @@ triangles are tagged from the pair's geometry (surface_tags.py: femur_contact
 flexes -5..60 deg about its estimated axis, tibia_contact = the insert's
 upward triangles near it, tibia_inferior = its downward triangles (n_z <
 -0.3) below three quarters of the articular zone's height (a rounded rim's
-lower half, a locking recess's floor), femur_fixation by the normal rule
+lower half, a locking recess's floor; of those the mesh's tibia_inferior
+keeps the seat only, the quadrangles within 0.05 mm of the plane through the
+lowest ones: the rigid tray needs it flat), femur_fixation by the normal rule
 below), or from --femur-contact-stl/--insert-contact-stl patches; the
 surface is remeshed again (--contact-size on the contact triangles, --size/2
 elsewhere; for the femur, and the insert with --method layer, smaller, down
@@ -757,6 +759,33 @@ def facing(nodes, quads, sign):
     return quads[np.sign(n[:, 2]) == sign]
 
 
+def seat_only(tib, tol=0.05):
+    """The insert's tibia_inferior quadrangles that lie on its seat: those
+    facing down whose nodes are all within tol mm of the plane fitted to
+    the lowest ones (within tol of the lowest node); what bears on the tray.
+    The rest of the underside that the tags found (a locking recess's floor,
+    the lower half of a rounded rim) stays traction free: tkr-wear's rigid
+    tray needs a flat tibia_inferior.  Returns (body, number of quadrangles
+    left out, the seat's area in mm^2)."""
+    nodes, hexes, surfaces = tib
+    q = surfaces.get("tibia_inferior")
+    if q is None or not len(q):
+        return tib, 0, 0.
+    P = nodes[q]
+    n = np.cross(P[:, 2] - P[:, 0], P[:, 3] - P[:, 1])
+    down = n[:, 2] < -0.9 * np.linalg.norm(n, axis=1)
+    low = down & (P[..., 2] <= P[..., 2].min() + tol).all(axis=1)
+    if not np.any(low):
+        return tib, 0, 0.
+    # z = a x + b y + c through the lowest quadrangles' nodes
+    X = P[low].reshape(-1, 3)
+    a, b, c = np.linalg.lstsq(np.c_[X[:, :2], np.ones(len(X))], X[:, 2], rcond=None)[0]
+    seat = down & (np.abs(P[..., 2] - a * P[..., 0] - b * P[..., 1] - c) <= tol).all(axis=1)
+    surfaces = dict(surfaces, tibia_inferior=q[seat])
+    area = 0.5 * np.linalg.norm(n[seat], axis=1).sum()
+    return (nodes, hexes, surfaces), int(np.count_nonzero(~seat)), float(area)
+
+
 def min_vertical_gap(fem, tib):
     fn, _, fs = fem
     tn, _, ts = tib
@@ -938,6 +967,10 @@ def main(argv=None):
     def say(line):
         print(line)
         report.append(line)
+    tib, off_seat, seat_area = seat_only(tib)
+    if off_seat:
+        say("tibia_inferior: the seat only (%.1f mm^2), %d quadrangles of the underside off it (a recess's floor, "
+            "a rounded rim) left traction free" % (seat_area, off_seat))
     fn = fem[0].copy()
     if args.offset:
         d = np.array([float(t) for t in args.offset.split(",")])
