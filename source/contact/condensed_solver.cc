@@ -112,13 +112,19 @@ namespace TKR::Contact
       for (const unsigned char b : bytes)
         hash = (hash ^ b) * 1099511628211ull;
     };
-    const TrilinosWrappers::SparseMatrix &K = system.matrix();
+    // (Epetra's row views: deal.II's matrix iterators copy every row)
+    const Epetra_CrsMatrix &K = system.matrix().trilinos_matrix();
     for (const auto row : master_body_dofs)
-      for (auto entry = K.begin(row); entry != K.end(row); ++entry)
-        {
-          mix(entry->column());
-          mix(entry->value());
-        }
+      {
+        int     n = 0, *columns = nullptr;
+        double *values = nullptr;
+        K.ExtractMyRowView(K.LRID(static_cast<int>(row)), n, values, columns);
+        for (int k = 0; k < n; ++k)
+          {
+            mix(K.ColMap().GID64(columns[k]));
+            mix(values[k]);
+          }
+      }
     for (unsigned int i = n_slave_values; i < surface_dofs.size(); ++i)
       {
         mix(surface_dofs[i]);

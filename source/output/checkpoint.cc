@@ -24,7 +24,8 @@ namespace TKR::Output
 
   namespace
   {
-    constexpr unsigned int format_version = 3;
+    // 4: pose_fallbacks; format 3 (without it) is read as 0 fallbacks
+    constexpr unsigned int format_version = 4, oldest_format = 3;
     /** Columns of the history dataset (Wear::BlockResult). */
     constexpr unsigned int n_history_columns = 9;
     /** Columns of the sides dataset (Wear::SideResult, medial then
@@ -216,6 +217,7 @@ namespace TKR::Output
       file.set_attribute("contact_solves", double(state.contact_solves));
       file.set_attribute("newton_iterations", double(state.newton_iterations));
       file.set_attribute("steps", double(state.steps));
+      file.set_attribute("pose_fallbacks", double(state.pose_fallbacks));
       file.set_attribute("converged", state.converged);
       file.set_attribute("max_pressure", state.max_pressure);
       file.set_attribute("first_cycle_mass", state.first_cycle_mass);
@@ -241,9 +243,13 @@ namespace TKR::Output
         std::llround(file.get_attribute<double>("contact_solves"));
       state.newton_iterations =
         std::llround(file.get_attribute<double>("newton_iterations"));
-      state.steps        = std::llround(file.get_attribute<double>("steps"));
-      state.converged    = file.get_attribute<bool>("converged");
-      state.max_pressure = file.get_attribute<double>("max_pressure");
+      state.steps = std::llround(file.get_attribute<double>("steps"));
+      state.pose_fallbacks =
+        file.get_attribute<unsigned int>("format_version") < 4 ?
+          0 :
+          std::llround(file.get_attribute<double>("pose_fallbacks"));
+      state.converged        = file.get_attribute<bool>("converged");
+      state.max_pressure     = file.get_attribute<double>("max_pressure");
       state.first_cycle_mass = file.get_attribute<double>("first_cycle_mass");
       state.wall_time        = file.get_attribute<double>("wall_time");
     }
@@ -391,11 +397,12 @@ namespace TKR::Output
                  const Parameters::AllParameters &parameters)
     {
       const auto version = file.get_attribute<unsigned int>("format_version");
-      AssertThrow(version == format_version,
+      AssertThrow(version >= oldest_format && version <= format_version,
                   ExcInputError("The checkpoint <" + filename +
                                 "> was written by another version of "
                                 "tkr-wear (checkpoint format " +
                                 std::to_string(version) + ", this one reads " +
+                                std::to_string(oldest_format) + " to " +
                                 std::to_string(format_version) + ")."));
       check_parameters(filename,
                        from_text(file.get_attribute<std::string>("parameters")),

@@ -321,6 +321,7 @@ namespace TKR::Problems
     report.converged         = stats.converged && pose_solve.converged;
     report.pose_converged    = pose_solve.converged;
     report.pose_residual     = pose_solve.residual;
+    report.pose_fallbacks    = pose_solve.n_fallbacks;
     report.contact_converged = stats.converged;
     report.wall_time         = step_timer.wall_time();
     protocol->report(pose, progress.observations, report);

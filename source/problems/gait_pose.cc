@@ -176,6 +176,7 @@ namespace TKR::Problems
                           couple_at);
     const Contact::ContactState start = progress.state;
     Contact::PoseStatistics     statistics;
+    unsigned int                fallbacks = 0;
     for (;;)
       {
         std::vector<double> q = system.unknowns(pose);
@@ -191,6 +192,8 @@ namespace TKR::Problems
           progress.state,
           statistics);
         progress.n_solves += statistics.n_solves;
+        fallbacks +=
+          statistics.n_descent_fallbacks + statistics.n_stalled_steps;
         progress.newton_iterations += progress.statistics.newton_iterations;
         if (narrow &&
             !model.coupling().window_holds(progress.state.displacement,
@@ -204,6 +207,9 @@ namespace TKR::Problems
         break;
       }
     finish_solve(progress);
-    return {statistics.n_iterations, statistics.converged, statistics.residual};
+    return {statistics.n_iterations,
+            statistics.converged,
+            statistics.residual,
+            fallbacks};
   }
 } // namespace TKR::Problems

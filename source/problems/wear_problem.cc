@@ -75,6 +75,7 @@ namespace TKR::Problems
         n_newton += r.newton_iterations;
         n_solves += r.pose_updates + 1;
         n_converged += r.converged;
+        state.pose_fallbacks += r.pose_fallbacks;
         peak_pressure    = std::max(peak_pressure, r.max_pressure);
         max_contact_area = std::max(max_contact_area, r.contact_area);
       }
@@ -493,6 +494,8 @@ namespace TKR::Problems
                 static_cast<unsigned long long>(state.contact_solves));
     summary.set("mean_newton_iterations",
                 double(state.newton_iterations) / state.contact_solves);
+    summary.set("pose_fallbacks",
+                static_cast<unsigned long long>(state.pose_fallbacks));
     summary.set("cycles_per_extrapolation_step", state.cycles_per_block);
     summary.set("first_cycle_mass_loss_mg_per_million_cycles",
                 1e6 * state.first_cycle_mass);

@@ -55,6 +55,12 @@ namespace TKR::Gait
     bool converged = false;
     /** The residual of the last solve in the protocol's measure (mm). */
     double residual = 0;
+    /**
+     * Steps of the pose Newton that left the Newton direction (a direction
+     * replaced by S^-1 r, a step at the line search's bracket end;
+     * Contact::PoseStatistics): counted in summary.json (pose_fallbacks).
+     */
+    unsigned int n_fallbacks = 0;
   };
 
   /**

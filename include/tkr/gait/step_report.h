@@ -81,6 +81,8 @@ namespace TKR::Gait
     bool pose_converged = false;
     /** The pose solve's last residual (mm). */
     double pose_residual = 0;
+    /** Pose Newton steps off the Newton direction (PoseSolve). */
+    unsigned int pose_fallbacks = 0;
     /** Every contact solve of the step converged. */
     bool   contact_converged = false;
     double wall_time         = 0;
@@ -89,12 +91,12 @@ namespace TKR::Gait
     void
     serialize(Archive &archive, const unsigned int)
     {
-      archive &input &pose                     &pose_values;
-      archive &active_nodes &newton_iterations &pose_updates;
-      archive &max_pressure &contact_force     &contact_area;
-      archive &contact_resultant               &contact_moment;
-      archive &converged &pose_converged       &wall_time;
-      archive &pose_residual                   &contact_converged;
+      archive &input &pose                      &pose_values;
+      archive &active_nodes &newton_iterations  &pose_updates;
+      archive &max_pressure &contact_force      &contact_area;
+      archive &contact_resultant                &contact_moment;
+      archive &converged &pose_converged        &wall_time;
+      archive &pose_residual &contact_converged &pose_fallbacks;
     }
   };
 

@@ -95,7 +95,9 @@ namespace TKR::Wear
     unsigned long long contact_solves    = 0;
     unsigned long long newton_iterations = 0;
     unsigned long long steps             = 0;
-    bool               converged         = true;
+    /** Pose Newton steps off the Newton direction (StepReport). */
+    unsigned long long pose_fallbacks = 0;
+    bool               converged      = true;
     /** Peak pressure over the run (MPa). */
     double max_pressure = 0;
     /** Every step that did not converge, over all blocks. */
