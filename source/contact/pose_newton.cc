@@ -27,6 +27,13 @@ namespace TKR::Contact
     constexpr double line_search_eta = 0.5;
     /** Contact solutions per line search, at most. */
     constexpr unsigned int max_line_search_steps = 8;
+    /**
+     * The smallest cosine of the Newton direction with S^-1 r (in K), and
+     * of a damped one.
+     */
+    constexpr double min_cosine = 1e-2, damped_cosine = 0.5;
+    /** The first and the largest Levenberg-Marquardt damping. */
+    constexpr double min_damping = 1. / 64, max_damping = 1e6;
     /** The largest change of the pose per Newton iteration (mm). */
     constexpr double max_pose_step = 2.;
   } // namespace
@@ -149,10 +156,9 @@ namespace TKR::Contact
   // If no active node holds some pose unknown the matrix is singular: the
   // pose rows then get the fixed-point model dr_p/dq_p = -s_p (the pose
   // moves by the displacement it observes).
-  std::vector<double>
-  CondensedActiveSetSolver::pose_newton_direction(const PoseSystem &system,
-                                                  PosePoint        &point,
-                                                  PoseStatistics   &statistics)
+  CondensedActiveSetSolver::PoseNewtonSystem
+  CondensedActiveSetSolver::pose_newton_system(const PoseSystem &system,
+                                               PosePoint        &point)
   {
     const auto                  &nodes = coupling.slave_nodes();
     const Mortar::MortarOperator B(coupling);
@@ -173,8 +179,12 @@ namespace TKR::Contact
       if (point.z[i].surface.empty())
         point.z[i] = zone_column(B, zone, i);
 
-    LAPACKFullMatrix<double> J(n_A + m, n_A + m);
-    Vector<double>           rhs(n_A + m);
+    PoseNewtonSystem newton;
+    newton.n_active               = n_A;
+    LAPACKFullMatrix<double> &J   = newton.matrix;
+    Vector<double>           &rhs = newton.rhs;
+    J.reinit(n_A + m, n_A + m);
+    rhs.reinit(n_A + m);
     for (unsigned int a = 0; a < n_A; ++a)
       {
         const auto &node = nodes[active[a]];
@@ -199,29 +209,23 @@ namespace TKR::Contact
         rhs(n_A + p) = -scale * point.u0_observations[index];
       }
 
-    std::vector<double> dq(m);
-    if (!solve_newton_system(system, J, rhs, n_A, dq))
-      {
-        ++statistics.n_regularised;
-        for (unsigned int p = 0; p < m; ++p)
-          J(n_A + p, n_A + p) -= rows[p].second;
-        AssertThrow(solve_newton_system(system, J, rhs, n_A, dq),
-                    ExcMessage("The Newton matrix of the contact and the "
-                               "pose is singular."));
-      }
-    return dq;
+    return newton;
   }
 
   // LU with partial pivoting; a singular matrix, or a pose change beyond
   // any motion of a step (a nearly singular one), is a failure.
   bool
-  CondensedActiveSetSolver::solve_newton_system(const PoseSystem        &system,
-                                                LAPACKFullMatrix<double> matrix,
-                                                const Vector<double>    &rhs,
-                                                const unsigned int   n_active,
-                                                std::vector<double> &dq)
+  CondensedActiveSetSolver::solve_newton_system(const PoseSystem       &system,
+                                                const PoseNewtonSystem &newton,
+                                                const double            damping,
+                                                std::vector<double>    &dq)
   {
-    Vector<double> x(rhs);
+    const auto               rows     = system.residual_rows();
+    const unsigned int       n_active = newton.n_active;
+    LAPACKFullMatrix<double> matrix(newton.matrix);
+    for (unsigned int p = 0; p < rows.size(); ++p)
+      matrix(n_active + p, n_active + p) -= damping * rows[p].second;
+    Vector<double> x(newton.rhs);
     try
       {
         matrix.compute_lu_factorization();
@@ -259,11 +263,76 @@ namespace TKR::Contact
     return stiffness;
   }
 
+  // The search direction (doc/gait.md, "Globalisation"): the Newton step
+  // if it is gradient related in V, i.e. its cosine with the steepest
+  // descent direction d = S^-1 r in the stiffness metric,
+  //   -phi'(0) / (|dq|_K |d|_K),  phi'(0) = -dq . K d,
+  // is at least min_cosine; else the Newton step damped (Levenberg-
+  // Marquardt) by mu = 1/64, 1/16, ... until the cosine is at least
+  // damped_cosine (the Newton model has just failed there, so the step
+  // leans towards d: fewer solves than min_cosine on the cases that
+  // damp, doc/gait.md). Damping turns dq continuously from the Newton
+  // step to d, which descends (K is positive definite). Only if no damping
+  // up to max_damping gives such a direction is d itself taken (counted as
+  // a fallback).
+  std::vector<double>
+  CondensedActiveSetSolver::pose_search_direction(
+    const PoseSystem         &system,
+    PosePoint                &point,
+    const FullMatrix<double> &stiffness,
+    PoseStatistics           &statistics)
+  {
+    const auto         rows = system.residual_rows();
+    const unsigned int m    = rows.size();
+    Vector<double>     descent(m);
+    for (unsigned int k = 0; k < m; ++k)
+      descent(k) = point.residual[k] / rows[k].second;
+    Vector<double> force(m);
+    stiffness.vmult(force, descent);
+    const double descent_norm =
+      std::sqrt(std::max(0., stiffness.matrix_norm_square(descent)));
+    const auto cosine = [&](const std::vector<double> &dq) {
+      const Vector<double> x(dq.begin(), dq.end());
+      const double         norm =
+        std::sqrt(std::max(0., stiffness.matrix_norm_square(x)));
+      return norm > 0 && descent_norm > 0 ?
+               (x * force) / (norm * descent_norm) :
+               0.;
+    };
+
+    const PoseNewtonSystem newton = pose_newton_system(system, point);
+    std::vector<double>    dq(m);
+    double                 regularisation = 0;
+    if (!solve_newton_system(system, newton, 0., dq))
+      {
+        ++statistics.n_regularised;
+        regularisation = 1;
+        AssertThrow(solve_newton_system(system, newton, regularisation, dq),
+                    ExcMessage("The Newton matrix of the contact and the "
+                               "pose is singular."));
+      }
+    for (double mu = min_damping, target = min_cosine; !(cosine(dq) >= target);
+         mu *= 4, target                 = damped_cosine)
+      {
+                        if (mu > max_damping)
+          {
+                            ++statistics.n_descent_fallbacks;
+                            dq.assign(descent.begin(), descent.end());
+                            break;
+          }
+        ++statistics.n_damped;
+                        if (solve_newton_system(system, newton, regularisation + mu, dq))
+          for (double &v : dq)
+            v *= 1 + mu;
+      }
+    return dq;
+  }
+
   // The iteration (doc/gait.md, "Pose and contact in one Newton"): the
   // contact solution at the starting pose (enough for a warm step whose
   // pose still holds); then, at the contact solution (lambda, q) of the
   // current pose, the Newton step of multipliers and pose together
-  // (pose_newton_direction()), and a line search along its pose part dq
+  // (pose_search_direction()), and a line search along its pose part dq
   // in the step's potential energy V(q) (the elastic energy and the work
   // of the loads and springs at the contact solution of q). V is convex
   // for small rotations, its gradient is continuous (the contact force is,
@@ -275,10 +344,12 @@ namespace TKR::Contact
   // regula falsi on phi' (increasing in alpha): every accepted step
   // lowers V, and a Newton direction that lies across a change of the
   // active set (where the merit |r|^2 has a kink and its one-sided Newton
-  // directions point against each other) still lowers V. A direction
-  // that does not descend in V is replaced by S^-1 r (counted). The
-  // iteration ends when every |r_p| <= tolerance; a step that finds no
-  // contact solution near its start ends it, not converged.
+  // directions point against each other) still lowers V. A Newton
+  // direction that is not gradient related in V (follower loads and the
+  // finite rotation make the Newton matrix differ from V's Hessian) is
+  // damped until it is (pose_search_direction()). The iteration ends when every
+  // |r_p| <= tolerance; a step that finds no contact solution near its start
+  // ends it, not converged.
   ContactStatistics
   CondensedActiveSetSolver::solve_with_pose(PoseSystem          &system,
                                             std::vector<double> &q,
@@ -321,16 +392,9 @@ namespace TKR::Contact
            pose_statistics.n_iterations < max_iterations && !stuck)
       {
         ++pose_statistics.n_iterations;
-        std::vector<double> dq =
-          pose_newton_direction(system, point, pose_statistics);
-        double slope_0 = slope(point, dq);
-        if (!(slope_0 < 0))
-          {
-            ++pose_statistics.n_descent_fallbacks;
-            for (unsigned int k = 0; k < dq.size(); ++k)
-              dq[k] = point.residual[k] / rows[k].second;
-            slope_0 = slope(point, dq);
-          }
+        const std::vector<double> dq =
+          pose_search_direction(system, point, stiffness, pose_statistics);
+        const double slope_0 = slope(point, dq);
         // The bracket [low, high] of the step: phi'(low) < 0 (its
         // solution kept), phi'(high) > eta |phi'(0)| or no contact
         // solution there.

@@ -281,24 +281,46 @@ namespace TKR::Contact
     pose_derivatives(const PoseSystem &system, const PosePoint &point) const;
 
     /**
-     * The pose part dq of the Newton step of multipliers and pose at the
-     * contact solution @p point, for its active set.
+     * The Newton system of multipliers and pose at a contact solution: the
+     * rows of its n_active active nodes, then the pose's.
      */
-    std::vector<double>
-    pose_newton_direction(const PoseSystem &system,
-                          PosePoint        &point,
-                          PoseStatistics   &pose_statistics);
+    struct PoseNewtonSystem
+    {
+      dealii::LAPACKFullMatrix<double> matrix;
+      dealii::Vector<double>           rhs;
+      unsigned int                     n_active = 0;
+    };
 
     /**
-     * Solve the Newton system @p matrix x = @p rhs (@p n_active multipliers,
-     * then the pose): false if it is (nearly) singular.
+     * The Newton system of multipliers and pose at the contact solution
+     * @p point, for its active set.
+     */
+    PoseNewtonSystem
+    pose_newton_system(const PoseSystem &system, PosePoint &point);
+
+    /**
+     * The pose part @p dq of the Newton step of @p newton, damped by
+     * @p damping (Levenberg-Marquardt: mu S subtracted from the pose rows'
+     * diagonal, dq scaled by 1 + mu, so that it goes from the Newton step
+     * at mu = 0 to S^-1 r as mu grows): false if the matrix is (nearly)
+     * singular.
      */
     static bool
-    solve_newton_system(const PoseSystem                &system,
-                        dealii::LAPACKFullMatrix<double> matrix,
-                        const dealii::Vector<double>    &rhs,
-                        const unsigned int               n_active,
-                        std::vector<double>             &dq);
+    solve_newton_system(const PoseSystem       &system,
+                        const PoseNewtonSystem &newton,
+                        const double            damping,
+                        std::vector<double>    &dq);
+
+    /**
+     * The pose part of the search direction at @p point: its Newton step,
+     * damped until it is gradient related in the step's potential energy
+     * (@p stiffness: rigid_stiffness()).
+     */
+    std::vector<double>
+    pose_search_direction(const PoseSystem                 &system,
+                          PosePoint                        &point,
+                          const dealii::FullMatrix<double> &stiffness,
+                          PoseStatistics                   &statistics);
 
     /** u_0 and its observations for the basis coefficients @p c. */
     void
