@@ -5,8 +5,10 @@
 # cases (prm/one-cycle.prm, one gait cycle on TKR A coarse, 10,017 DoFs,
 # with 8 Latin-hypercube samples of k and the insert's modulus) as one
 # study on 2 ranks (Ranks per case = 1) against the same 8 cases one after
-# another, each on 1 rank and each on 2 ranks (2 step groups). Timed with
-# farm-bench (median of RUNS, default 3); every case of the study compared
+# another, each on 1 rank and each on 2 ranks (2 step groups). Wall time
+# of the whole processes, the two commands in turn (A B A B ...), medians
+# of RUNS pairs (default 3) and the median of the pairs' ratios; every
+# case of the study compared
 # with its run alone (summary.json, steps.csv, 1e-9 relative).
 # Run from the repository root after the Release build; about 15 minutes.
 set -eu
@@ -38,6 +40,28 @@ for i in 0 1 2 3 4 5 6 7; do
   cp study/$c/case.prm alone-$c.prm
   printf 'subsection Output\n  set Directory = alone/%s\nend\n' $c >> alone-$c.prm
 done
+# paired RUNS 'COMMAND A' 'COMMAND B': wall seconds of A and B in turn
+paired() {
+  local i start end
+  for ((i = 0; i < $1; i++)); do
+    for which in A B; do
+      local cmd=$2
+      [ $which = B ] && cmd=$3
+      start=$(date +%s.%N)
+      bash -c "$cmd" > /dev/null 2>&1
+      end=$(date +%s.%N)
+      echo "$which $start $end"
+    done
+  done | python3 -c '
+import statistics, sys
+t = {"A": [], "B": []}
+for line in sys.stdin:
+    which, start, end = line.split()
+    t[which].append(float(end) - float(start))
+print("A: median %.1f s (%s)" % (statistics.median(t["A"]), ", ".join("%.1f" % x for x in t["A"])))
+print("B: median %.1f s (%s)" % (statistics.median(t["B"]), ", ".join("%.1f" % x for x in t["B"])))
+print("A/B: median of the pairs %.3f" % statistics.median(a / b for a, b in zip(t["A"], t["B"])))'
+}
 cat > sequential-1.sh <<'SH'
 for f in alone-case-000*.prm; do "$1" "$f" > /dev/null 2>&1 || exit 1; done
 SH
@@ -45,9 +69,9 @@ cat > sequential-2.sh <<'SH'
 for f in alone-case-000*.prm; do mpirun -np 2 "$1" "$f" > /dev/null 2>&1 || exit 1; done
 SH
 echo "== study of 8 cases on 2 ranks (Ranks per case = 1) vs the 8 cases one after another on 1 rank each"
-farm-bench -n "$runs" --warmup 0 --timeout 3600 --vs "bash sequential-1.sh $exe" -- mpirun -np 2 "$exe" study.prm
+paired "$runs" "mpirun -np 2 $exe study.prm" "bash sequential-1.sh $exe"
 echo "== the same study vs the 8 cases one after another on 2 ranks each (2 step groups)"
-farm-bench -n "$runs" --warmup 0 --timeout 3600 --vs "bash sequential-2.sh $exe" -- mpirun -np 2 "$exe" study.prm
+paired "$runs" "mpirun -np 2 $exe study.prm" "bash sequential-2.sh $exe"
 echo "== every case of the study = its run alone (1e-9)"
 bash sequential-1.sh "$exe"
 for i in 0 1 2 3 4 5 6 7; do
