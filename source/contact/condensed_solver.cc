@@ -477,8 +477,19 @@ namespace TKR::Contact
         const unsigned int first    = is_slave ? 0 : zone.n_slave;
         const unsigned int last     = is_slave ? zone.n_slave : n_zone;
         const unsigned int offset   = is_slave ? 0 : n_slave_values;
-        for (unsigned int k = first; k < last; ++k)
-          z.surface[k] += e->value * column.surface[zone.values[k] - offset];
+        auto [gathered, is_new]     = zone.gathered.try_emplace(e->column);
+        std::vector<double> &g      = gathered->second;
+        if (is_new)
+          {
+            g.resize(last - first);
+            for (unsigned int k = first; k < last; ++k)
+              g[k - first] = column.surface[zone.values[k] - offset];
+          }
+        double *const      target = z.surface.data() + first;
+        const double       value  = e->value;
+        const unsigned int n      = last - first;
+        for (unsigned int k = 0; k < n; ++k)
+          target[k] += value * g[k];
         for (unsigned int o = 0; o < n_observations; ++o)
           z.observations[o] += e->value * column.observations[o];
       }

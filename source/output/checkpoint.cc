@@ -26,6 +26,8 @@ namespace TKR::Output
   {
     // 4: pose_fallbacks; format 3 (without it) is read as 0 fallbacks
     constexpr unsigned int format_version = 4, oldest_format = 3;
+    /** The first format with pose_fallbacks. */
+    constexpr unsigned int pose_fallbacks_format = 4;
     /** Columns of the history dataset (Wear::BlockResult). */
     constexpr unsigned int n_history_columns = 9;
     /** Columns of the sides dataset (Wear::SideResult, medial then
@@ -245,7 +247,8 @@ namespace TKR::Output
         std::llround(file.get_attribute<double>("newton_iterations"));
       state.steps = std::llround(file.get_attribute<double>("steps"));
       state.pose_fallbacks =
-        file.get_attribute<unsigned int>("format_version") < 4 ?
+        file.get_attribute<unsigned int>("format_version") <
+            pose_fallbacks_format ?
           0 :
           std::llround(file.get_attribute<double>("pose_fallbacks"));
       state.converged        = file.get_attribute<bool>("converged");

@@ -17,6 +17,7 @@
 
 #include <array>
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 namespace TKR::Contact
@@ -201,6 +202,13 @@ namespace TKR::Contact
       std::vector<std::vector<Mortar::MortarOperator::Entry>> rows;
       /** u_0 on the zone. */
       std::vector<double> u0;
+      /**
+       * The stored columns K^-1 e_c (c a surface value) on the zone's slave
+       * values (slave c) or master values (master c), gathered as
+       * zone_column() first needs them: a column enters the rows of
+       * several active nodes.
+       */
+      mutable std::unordered_map<unsigned int, std::vector<double>> gathered;
 
       /** Row @p j of B times @p v (values on the zone). */
       double
