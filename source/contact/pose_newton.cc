@@ -311,19 +311,21 @@ namespace TKR::Contact
                     ExcMessage("The Newton matrix of the contact and the "
                                "pose is singular."));
       }
-    for (double mu = min_damping, target = min_cosine; !(cosine(dq) >= target);
-         mu *= 4, target                 = damped_cosine)
+    // The Newton step is tested against min_cosine, a damped one against
+    // damped_cosine.
+    double target = min_cosine;
+    for (double mu = min_damping; !(cosine(dq) >= target); mu *= 4)
       {
-                        if (mu > max_damping)
+        if (mu > max_damping)
           {
-                            ++statistics.n_descent_fallbacks;
-                            dq.assign(descent.begin(), descent.end());
-                            break;
+            ++statistics.n_descent_fallbacks;
+            dq.assign(descent.begin(), descent.end());
+            break;
           }
-        ++statistics.n_damped;
-                        if (solve_newton_system(system, newton, regularisation + mu, dq))
+        if (solve_newton_system(system, newton, regularisation + mu, dq))
           for (double &v : dq)
             v *= 1 + mu;
+        target = damped_cosine;
       }
     return dq;
   }

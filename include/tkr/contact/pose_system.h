@@ -96,12 +96,6 @@ namespace TKR::Contact
      */
     unsigned int n_stalled_steps = 0;
     /**
-     * Newton directions that were not gradient related in the potential
-     * energy and were damped (Levenberg-Marquardt), summed over the damping
-     * factors tried.
-     */
-    unsigned int n_damped = 0;
-    /**
      * Directions that stayed not gradient related at the largest damping
      * and were replaced by the unbalanced displacement S^-1 r.
      */
