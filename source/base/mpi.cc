@@ -8,6 +8,7 @@
 #include <tkr/base/mpi.h>
 
 #include <chrono>
+#include <climits>
 #include <string>
 #include <thread>
 
@@ -23,6 +24,19 @@ namespace TKR
                                    MPI_SUM,
                                    communicator);
     AssertThrowMPI(ierr);
+  }
+
+  std::vector<int>
+  offsets_of(const std::vector<int> &counts)
+  {
+    std::vector<int> offsets(counts.size() + 1, 0);
+    for (std::size_t r = 0; r < counts.size(); ++r)
+      {
+        AssertThrow(static_cast<long long>(offsets[r]) + counts[r] <= INT_MAX,
+                    dealii::ExcMessage("Too many values for one MPI call."));
+        offsets[r + 1] = offsets[r] + counts[r];
+      }
+    return offsets;
   }
 
   void

@@ -2,6 +2,7 @@
 // This file is part of tkr-wear.
 
 #include <tkr/base/exceptions.h>
+#include <tkr/base/mpi.h>
 #include <tkr/elasticity/direct_solver.h>
 
 #include <Epetra_CrsMatrix.h>
@@ -31,52 +32,6 @@ namespace TKR::Elasticity
     {
       const auto *comm = dynamic_cast<const Epetra_MpiComm *>(&map.Comm());
       return comm != nullptr ? comm->Comm() : MPI_COMM_SELF;
-    }
-
-    /** Displacements of MPI_Allgatherv from the counts. */
-    std::vector<int>
-    offsets_of(const std::vector<int> &counts)
-    {
-      std::vector<int> offsets(counts.size() + 1, 0);
-      for (std::size_t r = 0; r < counts.size(); ++r)
-        {
-          AssertThrow(static_cast<long long>(offsets[r]) + counts[r] <= INT_MAX,
-                      dealii::ExcMessage("Too many values for one MPI call."));
-          offsets[r + 1] = offsets[r] + counts[r];
-        }
-      return offsets;
-    }
-
-    /** Every rank's @p local values, in the order of the ranks. */
-    template <typename T>
-    std::vector<T>
-    all_gather(const std::vector<T> &local, const MPI_Comm communicator)
-    {
-      const MPI_Datatype type = std::is_same_v<T, double> ? MPI_DOUBLE :
-                                std::is_same_v<T, int>    ? MPI_INT :
-                                                            MPI_LONG_LONG;
-      int                n_ranks;
-      MPI_Comm_size(communicator, &n_ranks);
-      std::vector<int> counts(n_ranks);
-      const int        n_local = local.size();
-      MPI_Allgather(&n_local,
-                    1,
-                    MPI_INT,
-                    counts.data(),
-                    1,
-                    MPI_INT,
-                    communicator);
-      const std::vector<int> offsets = offsets_of(counts);
-      std::vector<T>         all(offsets.back());
-      MPI_Allgatherv(local.data(),
-                     n_local,
-                     type,
-                     all.data(),
-                     counts.data(),
-                     offsets.data(),
-                     type,
-                     communicator);
-      return all;
     }
 
     /** OpenBLAS' thread control (null with another BLAS). */
@@ -283,10 +238,10 @@ namespace TKR::Elasticity
           }
       }
     Entries entries;
-    all_rows        = all_gather(my_rows, communicator);
-    entries.counts  = all_gather(my_counts, communicator);
-    entries.columns = all_gather(my_columns, communicator);
-    entries.values  = all_gather(my_values, communicator);
+    all_rows        = all_gather_values(my_rows, communicator);
+    entries.counts  = all_gather_values(my_counts, communicator);
+    entries.columns = all_gather_values(my_columns, communicator);
+    entries.values  = all_gather_values(my_values, communicator);
     row_counts.resize(n_ranks);
     const int n_local = my_rows.size();
     MPI_Allgather(&n_local,
@@ -423,7 +378,7 @@ namespace TKR::Elasticity
       last > first ?
         static_cast<const double *>(buffers.X->x) + n * (last - first) :
         nullptr);
-    const std::vector<double> all = all_gather(solved, f.communicator);
+    const std::vector<double> all = all_gather_values(solved, f.communicator);
     for (Index c = 0; c < m; ++c)
       for (int i = 0; i < n_local; ++i)
         X[c][i] = all[c * n + my_rows[i]];
@@ -448,7 +403,7 @@ namespace TKR::Elasticity
     std::vector<double> mine(n_local * m);
     for (Index c = 0; c < m; ++c)
       std::copy(B[c], B[c] + n_local, mine.begin() + c * n_local);
-    const std::vector<double> all = all_gather(mine, communicator);
+    const std::vector<double> all = all_gather_values(mine, communicator);
     for (unsigned int r = 0, start = 0; r < n_ranks; ++r)
       {
         const long long *rows = all_rows.data() + row_offsets[r];

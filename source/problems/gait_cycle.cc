@@ -409,8 +409,7 @@ namespace TKR::Problems
     std::vector<StepResult> mine;
     for (const unsigned int step : own_steps)
       mine.push_back({step, records[step], reports[step], starts[step]});
-    for (const auto &from_rank :
-         Utilities::MPI::all_gather(model.world(), mine))
+    for (const auto &from_rank : all_gather_objects(model.world(), mine))
       for (const auto &result : from_rank)
         {
           records[result.step] = result.record;

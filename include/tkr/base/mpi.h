@@ -4,9 +4,14 @@
 #ifndef tkr_base_mpi_h
 #define tkr_base_mpi_h
 
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/utilities.h>
+
 #include <mpi.h>
 
+#include <cstdint>
 #include <functional>
+#include <type_traits>
 #include <vector>
 
 namespace TKR
@@ -18,6 +23,85 @@ namespace TKR
    */
   void
   sum_over_ranks(std::vector<double> &values, const MPI_Comm communicator);
+
+  /**
+   * Displacements of MPI_Allgatherv from the per-rank @p counts, and the
+   * total as the last entry; refused beyond what an int counts.
+   */
+  std::vector<int>
+  offsets_of(const std::vector<int> &counts);
+
+  /**
+   * Every rank's @p local values (double, int, 64-bit integers or char),
+   * concatenated in the order of the ranks of @p communicator. @p offsets,
+   * if given, receives where each rank's values start (offsets_of()).
+   */
+  template <typename T>
+  std::vector<T>
+  all_gather_values(const std::vector<T> &local,
+                    const MPI_Comm        communicator,
+                    std::vector<int>     *offsets = nullptr)
+  {
+    static_assert(std::is_same_v<T, double> || std::is_same_v<T, int> ||
+                    std::is_same_v<T, char> ||
+                    (std::is_integral_v<T> && sizeof(T) == 8),
+                  "all_gather_values() knows no MPI type for T.");
+    const MPI_Datatype type    = std::is_same_v<T, double> ? MPI_DOUBLE :
+                                 std::is_same_v<T, int>    ? MPI_INT :
+                                 std::is_same_v<T, char>   ? MPI_CHAR :
+                                                             MPI_INT64_T;
+    int                n_ranks = 1;
+    int                ierr    = MPI_Comm_size(communicator, &n_ranks);
+    AssertThrowMPI(ierr);
+    std::vector<int> counts(n_ranks);
+    const int        n_local = local.size();
+    ierr                     = MPI_Allgather(&n_local,
+                         1,
+                         MPI_INT,
+                         counts.data(),
+                         1,
+                         MPI_INT,
+                         communicator);
+    AssertThrowMPI(ierr);
+    std::vector<int> displacements = offsets_of(counts);
+    std::vector<T>   all(displacements.back());
+    ierr = MPI_Allgatherv(local.data(),
+                          n_local,
+                          type,
+                          all.data(),
+                          counts.data(),
+                          displacements.data(),
+                          type,
+                          communicator);
+    AssertThrowMPI(ierr);
+    if (offsets != nullptr)
+      *offsets = std::move(displacements);
+    return all;
+  }
+
+  /**
+   * Every rank's @p object (anything dealii::Utilities::pack() takes), in
+   * the order of the ranks: dealii::Utilities::MPI::all_gather() without
+   * its zlib pass, which took most of the exchange of a gait cycle's step
+   * results (issue 34).
+   */
+  template <typename T>
+  std::vector<T>
+  all_gather_objects(const MPI_Comm communicator, const T &object)
+  {
+    std::vector<int>        offsets;
+    const std::vector<char> all =
+      all_gather_values(dealii::Utilities::pack(object, false),
+                        communicator,
+                        &offsets);
+    std::vector<T> objects;
+    for (std::size_t r = 0; r + 1 < offsets.size(); ++r)
+      objects.push_back(
+        dealii::Utilities::unpack<T>(all.cbegin() + offsets[r],
+                                     all.cbegin() + offsets[r + 1],
+                                     false));
+    return objects;
+  }
 
   /**
    * Run @p work on rank 0 of @p communicator only (e.g. writing a file)
