@@ -14,7 +14,6 @@
 #include <cstring>
 #include <iomanip>
 #include <limits>
-#include <map>
 
 namespace TKR::Contact
 {
@@ -609,7 +608,7 @@ namespace TKR::Contact
           }
         active_set_update.update(coupling, state);
       }
-    finish_state(B, u0, u0_observations, z, state);
+    finish_state(B, u0, u0_observations, state);
     last_state                  = state;
     statistics.computed_columns = n_stored_columns - n_columns_before;
     add_contact_results(coupling, state, statistics);
@@ -618,51 +617,46 @@ namespace TKR::Contact
 
   // The displacement of every slave node (the wear's slip needs it also
   // away from the zone) and the observed functionals, from the nodes that
-  // carry a multiplier (those of the last Newton step): u = u_0 - sum_i
-  // lambda_i z_i, w . u likewise. And a bound of the master nodes'
-  // displacement (a coupling window needs it) without computing it:
-  // |u_m| <= sqrt(3) max_r |u_r| and max_r |u_r| <= max_r |u_0,r| + sum_c
-  // |sum_i lambda_i B_ic| peak_c over the master columns c.
+  // carry a multiplier (those of the last Newton step): u = u_0 - K^{-1} y,
+  // w . u likewise, with the loads y = sum_i lambda_i B_i^T (one stored
+  // column per value of y, fewer than the active rows' entries). And a
+  // bound of the master nodes' displacement (a coupling window needs it)
+  // without computing it: |u_m| <= sqrt(3) max_r |u_r| and max_r |u_r| <=
+  // max_r |u_0,r| + sum_c |y_c| peak_c over the master values c.
   void
   CondensedActiveSetSolver::finish_state(
     const Mortar::MortarOperator &B,
     const std::vector<double>    &u0,
     const std::vector<double>    &u0_observations,
-    const std::vector<Column>    &z,
     ContactState                 &state)
   {
     const unsigned int  n_slave = coupling.slave_nodes().size();
-    std::vector<double> u_slave(u0.begin(), u0.begin() + n_slave_values);
-    observed = u0_observations;
+    std::vector<double> y(u0.size(), 0.);
     for (unsigned int i = 0; i < n_slave; ++i)
       if (state.pressure[i] != 0.)
+        for (auto e = B.begin(i); e != B.end(i); ++e)
+          y[e->column] += state.pressure[i] * e->value;
+
+    std::vector<double> u_slave(u0.begin(), u0.begin() + n_slave_values);
+    observed            = u0_observations;
+    double master_bound = 0;
+    for (unsigned int r = n_slave_values; r < u0.size(); ++r)
+      master_bound = std::max(master_bound, std::abs(u0[r]));
+    for (unsigned int c = 0; c < y.size(); ++c)
+      if (y[c] != 0.)
         {
-          for (auto e = B.begin(i); e != B.end(i); ++e)
-            if (e->column < n_slave_values)
-              {
-                const auto &column =
-                  node_columns[e->column / 3][e->column % 3].surface;
-                for (unsigned int r = 0; r < n_slave_values; ++r)
-                  u_slave[r] -= state.pressure[i] * e->value * column[r];
-              }
+          const Column &column = node_columns[c / 3][c % 3];
+          if (c < n_slave_values)
+            for (unsigned int r = 0; r < n_slave_values; ++r)
+              u_slave[r] -= y[c] * column.surface[r];
+          else
+            master_bound += std::abs(y[c]) * column.peak;
           for (unsigned int m = 0; m < observed.size(); ++m)
-            observed[m] -= state.pressure[i] * z[i].observations[m];
+            observed[m] -= y[c] * column.observations[m];
         }
     for (unsigned int j = 0; j < n_slave; ++j)
       for (unsigned int e = 0; e < 3; ++e)
         state.displacement[j][e] = u_slave[3 * j + e];
-
-    double master_bound = 0;
-    for (unsigned int r = n_slave_values; r < u0.size(); ++r)
-      master_bound = std::max(master_bound, std::abs(u0[r]));
-    std::map<unsigned int, double> master_loads;
-    for (unsigned int i = 0; i < n_slave; ++i)
-      if (state.pressure[i] != 0.)
-        for (auto e = B.begin(i); e != B.end(i); ++e)
-          if (e->column >= n_slave_values)
-            master_loads[e->column] += state.pressure[i] * e->value;
-    for (const auto &[c, load] : master_loads)
-      master_bound += std::abs(load) * node_columns[c / 3][c % 3].peak;
     state.master_displacement = std::sqrt(3.) * master_bound;
   }
 

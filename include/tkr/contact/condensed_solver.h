@@ -365,7 +365,6 @@ namespace TKR::Contact
     finish_state(const Mortar::MortarOperator &B,
                  const std::vector<double>    &u0,
                  const std::vector<double>    &u0_observations,
-                 const std::vector<Column>    &z,
                  ContactState                 &state);
 
     /**
