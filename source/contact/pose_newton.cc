@@ -482,6 +482,15 @@ namespace TKR::Contact
     pose_statistics.residual = largest(point);
     pose_statistics.converged =
       statistics.converged && pose_statistics.residual <= tolerance;
+    if (pose_statistics.converged)
+      {
+        PoseStatistics            ignored;
+        const std::vector<double> dq =
+          pose_search_direction(system, point, stiffness, ignored);
+        pose_statistics.refined = q;
+        for (unsigned int k = 0; k < q.size(); ++k)
+          pose_statistics.refined[k] += dq[k];
+      }
     statistics.newton_iterations = newton_iterations;
     return statistics;
   }

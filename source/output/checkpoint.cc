@@ -11,11 +11,13 @@
 #include <tkr/base/mpi.h>
 #include <tkr/output/checkpoint.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace TKR::Output
@@ -24,10 +26,15 @@ namespace TKR::Output
 
   namespace
   {
-    // 4: pose_fallbacks; format 3 (without it) is read as 0 fallbacks
-    constexpr unsigned int format_version = 4, oldest_format = 3;
+    // 4: pose_fallbacks; format 3 (without it) is read as 0 fallbacks.
+    // 5: the steps' poses one block before (the extrapolated warm start);
+    // formats 3 and 4 are read without them (the first block after the
+    // resume then starts from the last poses).
+    constexpr unsigned int format_version = 5, oldest_format = 3;
     /** The first format with pose_fallbacks. */
     constexpr unsigned int pose_fallbacks_format = 4;
+    /** The first format with the previous poses of the steps. */
+    constexpr unsigned int previous_pose_format = 5;
     /** Columns of the history dataset (Wear::BlockResult). */
     constexpr unsigned int n_history_columns = 9;
     /** Columns of the sides dataset (Wear::SideResult, medial then
@@ -267,7 +274,7 @@ namespace TKR::Output
       const hsize_t n_nodes   = n_steps > 0 ? starts[0].active.size() : 0;
       const hsize_t pose_size = n_steps > 0 ? starts[0].pose.values.size() : 0;
       file.set_attribute("pose_size", static_cast<unsigned int>(pose_size));
-      std::vector<double>       poses;
+      std::vector<double>       poses, previous;
       std::vector<unsigned int> active;
       for (const auto &start : starts)
         {
@@ -275,11 +282,17 @@ namespace TKR::Output
           AssertThrow(p.size() == pose_size,
                       ExcMessage("Poses of different sizes."));
           poses.insert(poses.end(), p.begin(), p.end());
+          // (NaN: no previous pose)
+          for (unsigned int k = 0; k < pose_size; ++k)
+            previous.push_back(start.previous.values.size() == pose_size ?
+                                 start.previous.values[k] :
+                                 std::numeric_limits<double>::quiet_NaN());
           AssertThrow(start.active.size() == n_nodes,
                       ExcMessage("Active sets of different sizes."));
           active.insert(active.end(), start.active.begin(), start.active.end());
         }
       write_dataset(file, "step_pose", poses, {n_steps, pose_size});
+      write_dataset(file, "step_previous_pose", previous, {n_steps, pose_size});
       write_dataset(file, "step_active", active, {n_steps, n_nodes});
     }
 
@@ -291,11 +304,21 @@ namespace TKR::Output
       const unsigned int n_nodes = n_steps > 0 ? active.size() / n_steps : 0;
       const unsigned int pose_size =
         file.get_attribute<unsigned int>("pose_size");
+      const auto previous =
+        file.get_attribute<unsigned int>("format_version") <
+            previous_pose_format ?
+          std::vector<double>(poses.size(),
+                              std::numeric_limits<double>::quiet_NaN()) :
+          read_dataset<double>(file, "step_previous_pose");
       std::vector<Gait::StepStart> starts(n_steps);
       for (unsigned int s = 0; s < n_steps; ++s)
         {
           starts[s].pose.values.assign(poses.begin() + s * pose_size,
                                        poses.begin() + (s + 1) * pose_size);
+          if (pose_size > 0 && !std::isnan(previous[s * pose_size]))
+            starts[s].previous.values.assign(previous.begin() + s * pose_size,
+                                             previous.begin() +
+                                               (s + 1) * pose_size);
           starts[s].active.assign(active.begin() + s * n_nodes,
                                   active.begin() + (s + 1) * n_nodes);
         }

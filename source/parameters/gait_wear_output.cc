@@ -362,7 +362,9 @@ namespace TKR::Parameters
                         Patterns::Bool(),
                         "Start every gait step from the same step of the "
                         "previous block (tibia pose, restraint forces, active "
-                        "set) instead of from rest.");
+                        "set) instead of from rest; from the third block on, "
+                        "the pose extrapolated linearly from the step's "
+                        "poses of the two blocks before (doc/wear.md).");
       prm.declare_entry(
         "Distortion limit",
         "0.2",

@@ -177,7 +177,8 @@ namespace TKR::Problems
                             window);
   }
 
-  // A warm start from where the step ended in the previous block, or rest
+  // A warm start from where the step ended in the previous block (moved on
+  // by its change over the block before: StepStart::predicted_pose()), or rest
   // (the tibia lifted to touch the femur if that is far from it). The
   // coupling window (Mortar::CouplingWindow) follows the face clearances
   // of the step's previous solve, if the step is warm started: a cold
@@ -196,7 +197,7 @@ namespace TKR::Problems
     if (parameters.wear.warm_start && !starts[step].empty())
       {
         progress.state.active = starts[step].active;
-        return starts[step].pose;
+        return starts[step].predicted_pose();
       }
     const double lift = touching_lift(
       step_positions(protocol->motion(input, protocol->rest_pose(input, 0.))));
@@ -325,7 +326,11 @@ namespace TKR::Problems
     report.contact_converged = stats.converged;
     report.wall_time         = step_timer.wall_time();
     protocol->report(pose, progress.observations, report);
-    starts[step] = {pose, state.active, progress.window.face_clearance};
+    Gait::StepStart &start = starts[step];
+    start.previous       = start.empty() ? Gait::Pose() : std::move(start.pose);
+    start.pose           = progress.refined.empty() ? pose : progress.refined;
+    start.active         = state.active;
+    start.face_clearance = progress.window.face_clearance;
     if (groups.n_groups == 1 && (print || !report.converged))
       model.pcout() << Output::step_line(step,
                                          report,

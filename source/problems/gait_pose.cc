@@ -204,6 +204,8 @@ namespace TKR::Problems
             continue;
           }
         pose = system.pose(q);
+        if (!statistics.refined.empty())
+          progress.refined = system.pose(statistics.refined);
         break;
       }
     finish_solve(progress);

@@ -54,9 +54,18 @@ namespace TKR::Problems
     cycle.set_step_starts(state.step_starts);
     if (state.stiffness_block > 1)
       cycle.setup_solver();
+    const bool extrapolated =
+      !state.step_starts.empty() &&
+      std::all_of(state.step_starts.begin(),
+                  state.step_starts.end(),
+                  [](const Gait::StepStart &s) { return !s.previous.empty(); });
     model.pcout() << "Resumed from <" << Output::checkpoint_file(directory)
                   << ">: block " << state.block << ", " << state.cycles
-                  << " cycles" << std::endl;
+                  << " cycles"
+                  << (extrapolated ? ", warm starts extrapolated from the "
+                                     "poses of the last two blocks" :
+                                     "")
+                  << std::endl;
   }
 
   // The wear law over the cycle's sliding gives each tibia_contact node's

@@ -41,6 +41,10 @@ if ! "$mpiexec" -np 2 "$exe" --resume "$prm" > resumed.log 2>&1; then
   exit 1
 fi
 grep "Resumed from" resumed.log || { echo "restart_test: not resumed"; exit 1; }
+# The checkpoint holds the steps' poses of blocks 1 and 2: block 3 starts
+# from their extrapolation, as in the uninterrupted run.
+grep -q "warm starts extrapolated from the poses of the last two blocks" resumed.log ||
+  { echo "restart_test: the resumed run lost the previous poses"; exit 1; }
 "$here/compare-files.sh" results "$reference" wear_history.csv steps.csv
 
 # A checkpoint locked by another process (as HDF5 locks a file it has

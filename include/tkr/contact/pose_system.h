@@ -107,6 +107,14 @@ namespace TKR::Contact
     unsigned int n_regularised = 0;
     /** The largest |r_p| (mm) of the final solve. */
     double residual = 0;
+    /**
+     * The pose unknowns one more Newton step on from the converged ones
+     * (without a contact solve): a closer estimate of the solution than the
+     * accepted pose, whose residual may be up to the tolerance, for
+     * predicting the step's pose in the next block (empty if the solve did
+     * not converge).
+     */
+    std::vector<double> refined;
     /** The pose equations hold within the tolerance. */
     bool converged = false;
   };

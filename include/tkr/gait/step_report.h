@@ -108,6 +108,8 @@ namespace TKR::Gait
   {
     Pose              pose;
     std::vector<bool> active;
+    /** The pose the step ended in one block before `pose` (empty: none). */
+    Pose previous;
     /** The face clearances of the step's last solve, for the coupling
      *  window of the next one (Mortar::CouplingWindow; not checkpointed:
      *  it changes the cost, not the result). */
@@ -120,11 +122,27 @@ namespace TKR::Gait
       return active.empty();
     }
 
+    /**
+     * The start of the step's next solve: `pose` moved on by its change
+     * over the last block (linear extrapolation over the blocks: the wear of
+     * a block moves the pose by nearly the same amount as the block
+     * before's), or `pose` itself without a previous one.
+     */
+    Pose
+    predicted_pose() const
+    {
+      Pose predicted = pose;
+      if (previous.values.size() == pose.values.size())
+        for (unsigned int k = 0; k < pose.values.size(); ++k)
+          predicted.values[k] += pose.values[k] - previous.values[k];
+      return predicted;
+    }
+
     template <class Archive>
     void
     serialize(Archive &archive, const unsigned int)
     {
-      archive &pose &active &face_clearance;
+      archive &pose &active &previous &face_clearance;
     }
   };
 } // namespace TKR::Gait

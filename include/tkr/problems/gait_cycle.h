@@ -155,6 +155,12 @@ namespace TKR::Problems
       bool                       use_window        = false;
       unsigned int               newton_iterations = 0;
       unsigned int               n_solves          = 0;
+      /**
+       * The best estimate of the step's pose for the next block's
+       * prediction (Contact::PoseStatistics::refined; empty: the accepted
+       * pose).
+       */
+      Gait::Pose refined;
     };
 
     /**
