@@ -109,15 +109,23 @@ namespace TKR
   {
     const unsigned int n_ranks = dealii::Utilities::MPI::n_mpi_processes(world);
     const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(world);
-    n_groups       = (requested == 0 ? n_ranks : std::min(requested, n_ranks));
-    index          = rank * n_groups / n_ranks;
-    const int ierr = MPI_Comm_split(world, index, rank, &communicator);
+    n_groups = (requested == 0 ? n_ranks : std::min(requested, n_ranks));
+    index    = rank * n_groups / n_ranks;
+    int ierr = MPI_Comm_split(world, index, rank, &communicator);
     AssertThrowMPI(ierr);
-    is_group_root = dealii::Utilities::MPI::this_mpi_process(communicator) == 0;
+    const unsigned int place =
+      dealii::Utilities::MPI::this_mpi_process(communicator);
+    is_group_root = place == 0;
+    ierr          = MPI_Comm_split(world,
+                          n_ranks % n_groups == 0 ? place : n_groups + rank,
+                          index,
+                          &peers);
+    AssertThrowMPI(ierr);
   }
 
   StepGroups::~StepGroups()
   {
+    MPI_Comm_free(&peers);
     MPI_Comm_free(&communicator);
   }
 

@@ -41,6 +41,12 @@ namespace TKR::Contact
     n_slave_values  = 3 * coupling.slave_surface().nodes().size();
     n_master_values = surface_dofs.size() - n_slave_values;
     const std::uint64_t fingerprint = master_fingerprint();
+    last_stiffness_nodes.clear();
+    if (node_columns.size() == coupling.slave_surface().nodes().size() +
+                                 coupling.master_surface().nodes().size())
+      for (unsigned int node = 0; node < node_columns.size(); ++node)
+        if (!node_columns[node][0].surface.empty())
+          last_stiffness_nodes.push_back(node);
     clear_columns(!node_columns.empty() && fingerprint == master_block);
     master_block = fingerprint;
   }
@@ -283,6 +289,117 @@ namespace TKR::Contact
                                          (c + 1) * n_observations);
           }
         n_stored_columns += n_columns;
+      }
+  }
+
+  // Every peer lists the nodes it wants (its last stiffness's) and those it
+  // holds (kept master columns); a node that a peer lacks is sent by the
+  // first peer that holds it or, if none does, computed by one peer (in
+  // turn) and sent by it. The columns travel in rounds of a few nodes per
+  // peer, to bound the buffers.
+  void
+  CondensedActiveSetSolver::prefetch(const MPI_Comm peers)
+  {
+    const unsigned int n_nodes = node_columns.size();
+    const unsigned int n_peers = Utilities::MPI::n_mpi_processes(peers);
+    const unsigned int me      = Utilities::MPI::this_mpi_process(peers);
+    // per node: whether this peer wants it, then whether it holds it
+    std::vector<int> local(2 * n_nodes, 0);
+    for (const unsigned int node : last_stiffness_nodes)
+      local[node] = 1;
+    for (unsigned int node = 0; node < n_nodes; ++node)
+      if (!node_columns[node][0].surface.empty())
+        local[n_nodes + node] = 1;
+    std::vector<int>       offsets;
+    const std::vector<int> all = all_gather_values(local, peers, &offsets);
+    AssertThrow(offsets.back() == static_cast<int>(2 * n_nodes * n_peers),
+                ExcInternalError());
+
+    // who sends each node that some peer lacks (its list per peer)
+    std::vector<std::vector<unsigned int>> sent(n_peers);
+    std::vector<unsigned int>              to_compute;
+    unsigned int                           turn = 0;
+    for (unsigned int node = 0; node < n_nodes; ++node)
+      {
+        bool         wanted  = false;
+        unsigned int holders = 0, holder = n_peers;
+        for (unsigned int p = 0; p < n_peers; ++p)
+          {
+            wanted = wanted || all[2 * n_nodes * p + node] != 0;
+            if (all[2 * n_nodes * p + n_nodes + node] != 0)
+              {
+                ++holders;
+                holder = std::min(holder, p);
+              }
+          }
+        if (holders == n_peers || (!wanted && holders == 0))
+          continue;
+        if (holders == 0)
+          {
+            holder = turn++ % n_peers;
+            if (holder == me)
+              to_compute.push_back(node);
+          }
+        sent[holder].push_back(node);
+      }
+    if (!to_compute.empty())
+      compute_columns(to_compute);
+    if (n_peers == 1)
+      return;
+
+    TimerOutput::Scope scope(timer, "compliance column exchange");
+    const unsigned int n_observations = observation_weights.size();
+    const unsigned int round          = 32;
+    std::size_t        n_rounds       = 0;
+    for (const auto &nodes : sent)
+      n_rounds = std::max(n_rounds, (nodes.size() + round - 1) / round);
+    for (std::size_t r = 0; r < n_rounds; ++r)
+      {
+        std::vector<double> packed;
+        for (std::size_t k = r * round;
+             k < std::min<std::size_t>((r + 1) * round, sent[me].size());
+             ++k)
+          for (const Column &column : node_columns[sent[me][k]])
+            {
+              Assert(column.observations.size() == n_observations,
+                     ExcInternalError());
+              packed.insert(packed.end(),
+                            column.surface.begin(),
+                            column.surface.end());
+              packed.insert(packed.end(),
+                            column.observations.begin(),
+                            column.observations.end());
+              packed.push_back(column.peak);
+            }
+        const std::vector<double> received =
+          all_gather_values(packed, peers, &offsets);
+        for (unsigned int p = 0; p < n_peers; ++p)
+          {
+            const double *value = received.data() + offsets[p];
+            for (std::size_t k = r * round;
+                 k < std::min<std::size_t>((r + 1) * round, sent[p].size());
+                 ++k)
+              {
+                const unsigned int node = sent[p][k];
+                const unsigned int n_own =
+                  3 * node < n_slave_values ? n_slave_values : n_master_values;
+                for (Column &column : node_columns[node])
+                  {
+                    if (p != me && column.surface.empty())
+                      {
+                        column.surface.assign(value, value + n_own);
+                        column.observations.assign(value + n_own,
+                                                   value + n_own +
+                                                     n_observations);
+                        column.peak = value[n_own + n_observations];
+                        ++n_stored_columns;
+                      }
+                    value += n_own + n_observations + 1;
+                  }
+              }
+            AssertThrow(value == received.data() + offsets[p + 1],
+                        ExcInternalError());
+          }
       }
   }
 

@@ -106,6 +106,7 @@ namespace TKR::Problems
         observation_names.push_back(name);
       }
     solver->set_load_basis(model.mapping(), protocol->load_basis());
+    solver->prefetch(groups.peers);
     if (!first)
       return;
     model.pcout() << "Contact solver: " << solver->description();

@@ -159,7 +159,13 @@ namespace TKR
     std::vector<unsigned int>
     own_items(const unsigned int n_items) const;
 
-    MPI_Comm     communicator;
+    MPI_Comm communicator;
+    /**
+     * The ranks with this rank's place in every group (one per group) if
+     * the groups are of equal size, else this rank alone: what a group
+     * computed for all groups reaches each of its ranks' peers.
+     */
+    MPI_Comm     peers;
     unsigned int n_groups;
     unsigned int index;
     /** Rank 0 of the group. */

@@ -113,6 +113,16 @@ namespace TKR::Contact
       return true;
     }
 
+    /**
+     * Compute the columns of the nodes whose columns the solves of the
+     * last stiffness used (remembered by setup()), in full batches, each
+     * group of @p peers a share, and exchange them: the step groups solve
+     * interleaved steps of one gait, so they need nearly the same columns.
+     * Call after setup(), add_observation() and set_load_basis().
+     */
+    void
+    prefetch(const MPI_Comm peers) override;
+
     /** Also forgets the stored columns (they hold the observations). */
     unsigned int
     add_observation(
@@ -409,6 +419,11 @@ namespace TKR::Contact
      * over setup() while master_fingerprint() stays the same.
      */
     std::uint64_t master_block = 0;
+    /**
+     * The surface nodes that had columns when setup() last forgot them
+     * (prefetch() computes them again), or none if the surfaces changed.
+     */
+    std::vector<unsigned int> last_stiffness_nodes;
     /** The locally owned DoFs of the master body's cells. */
     dealii::IndexSet master_body_dofs;
 

@@ -18,6 +18,8 @@
 #include <tkr/mortar/mortar_coupling.h>
 #include <tkr/parameters/parameters.h>
 
+#include <mpi.h>
+
 #include <memory>
 #include <string>
 #include <vector>
@@ -117,6 +119,20 @@ namespace TKR::Contact
                     const double         initial_distance,
                     ContactState        &state,
                     PoseStatistics      &pose_statistics);
+
+    /**
+     * Precompute what the solves after a setup() will probably need, from
+     * what the solves before it used, sharing the work with the solvers of
+     * @p peers (one rank of each other step group, whose solvers have the
+     * same stiffness; collective on @p peers). The condensed solver
+     * computes the compliance columns of the last stiffness's contact
+     * nodes in full batches; the others need nothing.
+     */
+    virtual void
+    prefetch(const MPI_Comm peers)
+    {
+      (void)peers;
+    }
 
     /**
      * The full displacement of the last solve (ghosted: every locally
