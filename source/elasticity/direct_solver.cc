@@ -13,7 +13,6 @@
 #include <suitesparse/cholmod.h>
 
 #include <algorithm>
-#include <climits>
 #include <cstdlib>
 #include <functional>
 #include <memory>

@@ -328,10 +328,10 @@ namespace TKR::Problems
     report.wall_time         = step_timer.wall_time();
     protocol->report(pose, progress.observations, report);
     Gait::StepStart &start = starts[step];
-    start.previous       = start.empty() ? Gait::Pose() : std::move(start.pose);
-    start.pose           = progress.refined.empty() ? pose : progress.refined;
-    start.active         = state.active;
-    start.face_clearance = progress.window.face_clearance;
+    start.previous         = std::move(start.pose);
+    start.pose             = progress.refined.empty() ? pose : progress.refined;
+    start.active           = state.active;
+    start.face_clearance   = progress.window.face_clearance;
     if (groups.n_groups == 1 && (print || !report.converged))
       model.pcout() << Output::step_line(step,
                                          report,

@@ -9,9 +9,9 @@
 
 #include <mpi.h>
 
-#include <cstdint>
 #include <functional>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace TKR
