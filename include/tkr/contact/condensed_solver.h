@@ -176,6 +176,13 @@ namespace TKR::Contact
     void
     clear_columns(const bool keep_master = false);
 
+    /** The length of @p node's columns: the surface values of its body. */
+    unsigned int
+    n_own_values(const unsigned int node) const
+    {
+      return 3 * node < n_slave_values ? n_slave_values : n_master_values;
+    }
+
     /**
      * A fingerprint (64-bit hash over all ranks) of what the master body's
      * columns depend on: its rows of K (columns and values), its surface
