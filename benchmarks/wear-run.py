@@ -79,8 +79,7 @@ def start(build, prm, ranks, log):
         command += ["mpirun", "-np", str(ranks)]
     command += [os.path.join(build, "tkr-wear"), prm]
     out = open(log, "w")
-    return subprocess.Popen(command, cwd=ROOT, env=env, stdout=out,
-                            stderr=subprocess.STDOUT), out
+    return subprocess.Popen(command, cwd=ROOT, env=env, stdout=out, stderr=subprocess.STDOUT), out
 
 
 def finish(process, out, directory, log):
@@ -93,25 +92,29 @@ def finish(process, out, directory, log):
         sys.exit(f"the run failed (exit {process.returncode}); see {log}")
     with open(os.path.join(directory, "summary.json")) as f:
         summary = json.load(f)
-    blocks = [float(t) for t in
-              re.findall(r"^Block .*?([0-9.]+) s/block", text, re.M)]
+    blocks = [float(t) for t in re.findall(r"^Block .*?([0-9.]+) s/block", text, re.M)]
     first = re.search(r"contact solves: (\d+)", text)
-    timers = {m.group(1).strip(): (int(m.group(2)), float(m.group(3)))
-              for m in re.finditer(
-                  r"^\| ([a-z][a-zA-Z /-]*?)\s*\|\s*(\d+) \|\s*([0-9.e+-]+)s \|",
-                  text, re.M)}
+    timers = {
+        m.group(1).strip(): (int(m.group(2)), float(m.group(3)))
+        for m in re.finditer(r"^\| ([a-z][a-zA-Z /-]*?)\s*\|\s*(\d+) \|\s*([0-9.e+-]+)s \|", text, re.M)
+    }
     rss = [int(m) for m in re.findall(r"peak RSS (\d+) kB", text)]
-    return {"summary": summary, "blocks": blocks,
-            "first_solves": int(first.group(1)) if first else 0,
-            "timers": timers, "peak_rss_mb": max(rss) / 1024 if rss else 0,
-            "log": log}
+    return {
+        "summary": summary,
+        "blocks": blocks,
+        "first_solves": int(first.group(1)) if first else 0,
+        "timers": timers,
+        "peak_rss_mb": max(rss) / 1024 if rss else 0,
+        "log": log,
+    }
 
 
 def run(build, prm, ranks, tag):
     directory = tempfile.mkdtemp(prefix=f"tkr-bench-{tag}-")
     name = make_prm(prm["base"], directory, prm.get("mesh"), prm.get("cycles"))
-    log = os.path.join(ROOT, "benchmarks", "results",
-                       f"wear-run-{tag}-{datetime.datetime.now():%Y%m%d-%H%M%S}.txt")
+    log = os.path.join(
+        ROOT, "benchmarks", "results", f"wear-run-{tag}-{datetime.datetime.now():%Y%m%d-%H%M%S}.txt"
+    )
     process, out = start(build, name, ranks, log)
     result = finish(process, out, directory, log)
     os.unlink(name)
@@ -139,51 +142,59 @@ def append_rows(rows):
 
 def row(benchmark, mesh, r, ranks, times, result):
     s = r["summary"]
-    return (f"| {datetime.date.today()} | {benchmark} | {machine()} | {mesh} "
-            f"| {s['dofs']:,} | {ranks} | {times} "
-            f"| {r['peak_rss_mb']:.0f} MB per process | {result} |")
+    return (
+        f"| {datetime.date.today()} | {benchmark} | {machine()} | {mesh} "
+        f"| {s['dofs']:,} | {ranks} | {times} "
+        f"| {r['peak_rss_mb']:.0f} MB per process | {result} |"
+    )
 
 
 def result_text(s):
-    return (f"{s['cycles']:g} cycles in {s['blocks']} blocks, "
-            f"mass loss {s['mass_loss_mg']:.6g} mg, "
-            f"converged {str(s['converged']).lower()}")
+    return (
+        f"{s['cycles']:g} cycles in {s['blocks']} blocks, "
+        f"mass loss {s['mass_loss_mg']:.6g} mg, "
+        f"converged {str(s['converged']).lower()}"
+    )
 
 
 def full(args):
     r = run(args.build, {"base": args.prm}, args.ranks, "full")
     s, blocks, t = r["summary"], r["blocks"], r["timers"]
     interval = s["stiffness_update_interval"]
-    update = [b for i, b in enumerate(blocks[1:], start=1)
-              if interval > 0 and i % interval == 0]
-    other = [b for i, b in enumerate(blocks[1:], start=1)
-             if not (interval > 0 and i % interval == 0)]
+    update = [b for i, b in enumerate(blocks[1:], start=1) if interval > 0 and i % interval == 0]
+    other = [b for i, b in enumerate(blocks[1:], start=1) if not (interval > 0 and i % interval == 0)]
     solves = s["contact_solves"]
 
     def section(name):
-        calls, wall = t.get(name, (0, 0.))
+        calls, wall = t.get(name, (0, 0.0))
         return f"{name} {wall:.1f} s ({calls})"
 
-    times = (f"**{s['wall_time_s']:.0f} s** in all; first block {blocks[0]:.1f} s"
-             + (f", {len(update)} stiffness updates {sum(update) / len(update):.1f} s each"
-                if update else "")
-             + (f", other blocks {sum(other) / len(other):.2f} s each" if other else "")
-             + f"; {solves} contact solves, {1e3 * per_solve(r):.1f} ms per warm solve"
-             + " (rank 0: " + ", ".join(section(n) for n in
-                                         ["mortar coupling", "compliance columns",
-                                          "direct factorisation",
-                                          "condensed Newton step", "output"])
-             + ")")
+    times = (
+        f"**{s['wall_time_s']:.0f} s** in all; first block {blocks[0]:.1f} s"
+        + (f", {len(update)} stiffness updates {sum(update) / len(update):.1f} s each" if update else "")
+        + (f", other blocks {sum(other) / len(other):.2f} s each" if other else "")
+        + f"; {solves} contact solves, {1e3 * per_solve(r):.1f} ms per warm solve"
+        + " (rank 0: "
+        + ", ".join(
+            section(n)
+            for n in [
+                "mortar coupling",
+                "compliance columns",
+                "direct factorisation",
+                "condensed Newton step",
+                "output",
+            ]
+        )
+        + ")"
+    )
     with open(os.path.join(ROOT, args.prm)) as f:
         mesh = re.search(r"(?m)^\s*set File\s*=\s*(\S+)", f.read())
     mesh = os.path.basename(mesh.group(1)) if mesh else "default mesh"
-    append_rows([row(f"full run `{args.prm}`", mesh, r, args.ranks, times,
-                     result_text(s))])
+    append_rows([row(f"full run `{args.prm}`", mesh, r, args.ranks, times, result_text(s))])
 
 
 def scaling(args):
-    prm = {"base": "prm/iso14243-1.prm",
-           "mesh": f"meshes/tkr/tkr-a-{args.mesh}.msh", "cycles": 1.5e5}
+    prm = {"base": "prm/iso14243-1.prm", "mesh": f"meshes/tkr/tkr-a-{args.mesh}.msh", "cycles": 1.5e5}
     one = run(args.build, prm, 1, "scaling-1")
     two = run(args.build, prm, 2, "scaling-2")
     # Two independent one-rank runs at once.
@@ -191,8 +202,12 @@ def scaling(args):
     for i in range(2):
         directory = tempfile.mkdtemp(prefix=f"tkr-bench-pair{i}-")
         name = make_prm(prm["base"], directory, prm["mesh"], prm["cycles"])
-        log = os.path.join(ROOT, "benchmarks", "results",
-                           f"wear-run-scaling-pair{i}-{datetime.datetime.now():%Y%m%d-%H%M%S}.txt")
+        log = os.path.join(
+            ROOT,
+            "benchmarks",
+            "results",
+            f"wear-run-scaling-pair{i}-{datetime.datetime.now():%Y%m%d-%H%M%S}.txt",
+        )
         pair.append((start(args.build, name, 1, log), directory, log, name))
     pair_results = []
     for (process, out), directory, log, name in pair:
@@ -201,22 +216,33 @@ def scaling(args):
     t1 = one["summary"]["wall_time_s"]
     t2 = two["summary"]["wall_time_s"]
     tp = max(p["summary"]["wall_time_s"] for p in pair_results)
-    times = (f"1 rank {t1:.1f} s; 2 ranks {t2:.1f} s (speed-up {t1 / t2:.2f}); "
-             f"two 1-rank runs at once {tp:.1f} s each; "
-             f"efficiency against that throughput {tp / (2 * t2):.2f}")
-    same = (abs(one["summary"]["mass_loss_mg"] - two["summary"]["mass_loss_mg"])
-            <= 1e-10 * one["summary"]["mass_loss_mg"])
-    append_rows([row("scaling (3 blocks)", os.path.basename(prm["mesh"]), two,
-                     "1, 2", times,
-                     result_text(two["summary"])
-                     + f"; 1 and 2 ranks {'agree' if same else 'DIFFER'}")])
+    times = (
+        f"1 rank {t1:.1f} s; 2 ranks {t2:.1f} s (speed-up {t1 / t2:.2f}); "
+        f"two 1-rank runs at once {tp:.1f} s each; "
+        f"efficiency against that throughput {tp / (2 * t2):.2f}"
+    )
+    same = (
+        abs(one["summary"]["mass_loss_mg"] - two["summary"]["mass_loss_mg"])
+        <= 1e-10 * one["summary"]["mass_loss_mg"]
+    )
+    append_rows(
+        [
+            row(
+                "scaling (3 blocks)",
+                os.path.basename(prm["mesh"]),
+                two,
+                "1, 2",
+                times,
+                result_text(two["summary"]) + f"; 1 and 2 ranks {'agree' if same else 'DIFFER'}",
+            )
+        ]
+    )
 
 
 def growth(args):
     results = []
     for size in args.sizes.split(","):
-        prm = {"base": "prm/iso14243-1.prm",
-               "mesh": f"meshes/tkr/tkr-a-{size}.msh", "cycles": 1e5}
+        prm = {"base": "prm/iso14243-1.prm", "mesh": f"meshes/tkr/tkr-a-{size}.msh", "cycles": 1e5}
         r = run(args.build, prm, 1, f"growth-{size}")
         results.append((size, r))
     rows = []
@@ -224,32 +250,37 @@ def growth(args):
     b0 = results[0][1]["blocks"][0]
     for size, r in results:
         n, t, b = r["summary"]["dofs"], per_solve(r), r["blocks"][0]
-        exponent = ("" if n == n0 else
-                    f"; exponent against coarse: per solve "
-                    f"{math.log(t / t0) / math.log(n / n0):.2f}, first block "
-                    f"{math.log(b / b0) / math.log(n / n0):.2f}")
-        times = (f"{1e3 * t:.1f} ms per warm contact solve; first block "
-                 f"{b:.1f} s ({r['first_solves']} solves){exponent}")
-        rows.append(row("growth (2 blocks)", f"tkr-a-{size}.msh", r, 1, times,
-                        result_text(r["summary"])))
+        exponent = (
+            ""
+            if n == n0
+            else f"; exponent against coarse: per solve "
+            f"{math.log(t / t0) / math.log(n / n0):.2f}, first block "
+            f"{math.log(b / b0) / math.log(n / n0):.2f}"
+        )
+        times = (
+            f"{1e3 * t:.1f} ms per warm contact solve; first block "
+            f"{b:.1f} s ({r['first_solves']} solves){exponent}"
+        )
+        rows.append(row("growth (2 blocks)", f"tkr-a-{size}.msh", r, 1, times, result_text(r["summary"])))
     append_rows(rows)
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("benchmark", choices=["full", "scaling", "growth"])
     parser.add_argument("--build", default=os.path.join(ROOT, "build", "release"))
     parser.add_argument("--prm", default="prm/iso14243-1.prm")
     parser.add_argument("--ranks", type=int, default=2)
     parser.add_argument("--mesh", default="medium")
-    parser.add_argument("--sizes", default="coarse,medium,fine",
-                        help="growth: the TKR A meshes, coarse first")
+    parser.add_argument(
+        "--sizes", default="coarse,medium,fine", help="growth: the TKR A meshes, coarse first"
+    )
     args = parser.parse_args()
     os.makedirs(os.path.join(ROOT, "benchmarks", "results"), exist_ok=True)
     if not os.path.exists(os.path.join(args.build, "tkr-wear")):
-        sys.exit(f"no tkr-wear in {args.build}: build it first "
-                 "(scripts/run-main-job or cmake)")
+        sys.exit(f"no tkr-wear in {args.build}: build it first " "(scripts/run-main-job or cmake)")
     started = time.time()
     {"full": full, "scaling": scaling, "growth": growth}[args.benchmark](args)
     print(f"benchmark took {time.time() - started:.0f} s")

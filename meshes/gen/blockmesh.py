@@ -15,11 +15,9 @@ import math
 import numpy as np
 
 # logical faces of a block: name -> (axis, side)
-FACES = {"imin": (0, 0), "imax": (0, 1), "jmin": (1, 0), "jmax": (1, 1),
-         "kmin": (2, 0), "kmax": (2, 1)}
+FACES = {"imin": (0, 0), "imax": (0, 1), "jmin": (1, 0), "jmax": (1, 1), "kmin": (2, 0), "kmax": (2, 1)}
 # local corner order of a gmsh hexahedron in (i, j, k) offsets
-HEX_CORNERS = ((0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0),
-               (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1))
+HEX_CORNERS = ((0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1))
 
 
 # --------------------------------------------------------------------------
@@ -40,7 +38,7 @@ def first_cell_ratio(n, length, h0):
     lo, hi = 1.0, 10.0
     for _ in range(200):
         mid = 0.5 * (lo + hi)
-        if h0 * (mid ** n - 1) / (mid - 1) > length:
+        if h0 * (mid**n - 1) / (mid - 1) > length:
             hi = mid
         else:
             lo = mid
@@ -78,6 +76,7 @@ def size_near(points, h_fine, h_coarse, half_width, growth):
     def f(s):
         d = max(0.0, float(np.min(np.abs(pts - s))) - half_width)
         return min(h_coarse, h_fine + growth * d)
+
     return f
 
 
@@ -117,8 +116,8 @@ class Body:
             coords.append(X.reshape(-1, 3))
             mask = b.cell_mask if b.cell_mask is not None else np.ones((ni - 1, nj - 1, nk - 1), bool)
             cells = []
-            for (di, dj, dk) in HEX_CORNERS:
-                cells.append(idx[di:ni - 1 + di, dj:nj - 1 + dj, dk:nk - 1 + dk])
+            for di, dj, dk in HEX_CORNERS:
+                cells.append(idx[di : ni - 1 + di, dj : nj - 1 + dj, dk : nk - 1 + dk])
             cells = np.stack(cells, axis=-1)  # (ni-1, nj-1, nk-1, 8)
             hexes.append(cells[mask])
             for fname, group in b.faces.items():
@@ -126,11 +125,11 @@ class Body:
                     continue
                 axis, side = FACES[fname]
                 sl = [slice(None)] * 3
-                sl[axis] = (0 if side == 0 else -1)
+                sl[axis] = 0 if side == 0 else -1
                 fidx = idx[tuple(sl)]  # 2D array of node ids on the face
                 # which cells are adjacent to the face (respect the mask)
                 csl = [slice(None)] * 3
-                csl[axis] = (0 if side == 0 else -1)
+                csl[axis] = 0 if side == 0 else -1
                 cmask = mask[tuple(csl)]
                 a, c = fidx.shape
                 q = np.stack([fidx[:-1, :-1], fidx[1:, :-1], fidx[1:, 1:], fidx[:-1, 1:]], axis=-1)
@@ -185,9 +184,9 @@ def corner_jacobians(nodes, hexes):
 def orient_hexes(nodes, hexes):
     x = nodes[hexes]
     # Jacobian at the centre
-    a = (x[:, 1] + x[:, 2] + x[:, 5] + x[:, 6] - x[:, 0] - x[:, 3] - x[:, 4] - x[:, 7])
-    b = (x[:, 2] + x[:, 3] + x[:, 6] + x[:, 7] - x[:, 0] - x[:, 1] - x[:, 4] - x[:, 5])
-    c = (x[:, 4] + x[:, 5] + x[:, 6] + x[:, 7] - x[:, 0] - x[:, 1] - x[:, 2] - x[:, 3])
+    a = x[:, 1] + x[:, 2] + x[:, 5] + x[:, 6] - x[:, 0] - x[:, 3] - x[:, 4] - x[:, 7]
+    b = x[:, 2] + x[:, 3] + x[:, 6] + x[:, 7] - x[:, 0] - x[:, 1] - x[:, 4] - x[:, 5]
+    c = x[:, 4] + x[:, 5] + x[:, 6] + x[:, 7] - x[:, 0] - x[:, 1] - x[:, 2] - x[:, 3]
     d = np.einsum("ij,ij->i", a, np.cross(b, c))
     flip = d < 0
     hexes = hexes.copy()
@@ -195,8 +194,10 @@ def orient_hexes(nodes, hexes):
     q = corner_jacobians(nodes, hexes)
     if np.any(q <= 0):
         bad = np.argwhere(q <= 0)[0][0]
-        raise RuntimeError("%d hexahedra with non-positive corner Jacobian, e.g. at %s"
-                           % (int(np.sum(np.any(q <= 0, axis=1))), nodes[hexes[bad]].mean(axis=0)))
+        raise RuntimeError(
+            "%d hexahedra with non-positive corner Jacobian, e.g. at %s"
+            % (int(np.sum(np.any(q <= 0, axis=1))), nodes[hexes[bad]].mean(axis=0))
+        )
     return hexes
 
 
@@ -247,14 +248,14 @@ def hex_volumes(nodes, hexes):
 # --------------------------------------------------------------------------
 # output
 # --------------------------------------------------------------------------
-BODY_SURFACES = {"femur": ("femur_contact", "femur_fixation"),
-                 "tibia": ("tibia_contact", "tibia_inferior")}
+BODY_SURFACES = {"femur": ("femur_contact", "femur_fixation"), "tibia": ("tibia_contact", "tibia_inferior")}
 
 
 def write_msh(path, bodies, title="tkr-wear"):
     """bodies: {'femur': (nodes, hexes, surfaces), 'tibia': (...)}.
     Writes ASCII msh 4.1 through the gmsh API."""
     import gmsh
+
     gmsh.initialize(["gmsh", "-v", "2"])
     try:
         gmsh.model.add(title)
@@ -293,10 +294,13 @@ def summary(bodies):
     out = {}
     for name, (nodes, hexes, surfaces) in bodies.items():
         q = corner_jacobians(nodes, hexes)
-        out[name] = dict(vertices=len(nodes), hexahedra=len(hexes),
-                         volume=float(hex_volumes(nodes, hexes).sum()),
-                         min_quality=float(q.min()),
-                         quads={k: len(v) for k, v in surfaces.items()})
+        out[name] = dict(
+            vertices=len(nodes),
+            hexahedra=len(hexes),
+            volume=float(hex_volumes(nodes, hexes).sum()),
+            min_quality=float(q.min()),
+            quads={k: len(v) for k, v in surfaces.items()},
+        )
     return out
 
 
@@ -305,12 +309,12 @@ def vertical_gap(points, nodes, quads, cell=2.0):
     piecewise-bilinear surface `quads` (split into 4 triangles about the quad
     centre) directly above/below it; nan where the surface does not cover the
     point.  Used to report the discrete initial gap / overlap of the bodies."""
-    P = nodes[quads]                    # (K,4,3)
+    P = nodes[quads]  # (K,4,3)
     c = P.mean(axis=1)
     tris = []
     for i in range(4):
         tris.append(np.stack([P[:, i], P[:, (i + 1) % 4], c], axis=1))
-    T = np.concatenate(tris)            # (4K,3,3)
+    T = np.concatenate(tris)  # (4K,3,3)
     lo = T[:, :, :2].min(axis=1)
     hi = T[:, :, :2].max(axis=1)
     buckets = {}

@@ -20,17 +20,27 @@ Exit code 0 only if every file passes.
 import sys
 
 GROUPS3 = ("femur", "tibia")
-GROUPS2 = {"femur_contact": "femur", "femur_fixation": "femur",
-           "tibia_contact": "tibia", "tibia_inferior": "tibia"}
+GROUPS2 = {
+    "femur_contact": "femur",
+    "femur_fixation": "femur",
+    "tibia_contact": "tibia",
+    "tibia_inferior": "tibia",
+}
 
 # Three edge neighbours of every corner of a gmsh hexahedron, right-handed.
-CORNER_NEIGHBOURS = ((1, 3, 4), (2, 0, 5), (3, 1, 6), (0, 2, 7),
-                     (7, 5, 0), (4, 6, 1), (5, 7, 2), (6, 4, 3))
+CORNER_NEIGHBOURS = ((1, 3, 4), (2, 0, 5), (3, 1, 6), (0, 2, 7), (7, 5, 0), (4, 6, 1), (5, 7, 2), (6, 4, 3))
 # The six faces of a gmsh hexahedron.
-HEX_FACES = ((0, 3, 2, 1), (0, 1, 5, 4), (0, 4, 7, 3),
-             (1, 2, 6, 5), (2, 3, 7, 6), (4, 5, 6, 7))
-ELEMENT_NAMES = {1: "line", 2: "triangle", 3: "quadrangle", 4: "tetrahedron",
-                 5: "hexahedron", 6: "prism", 7: "pyramid", 15: "point"}
+HEX_FACES = ((0, 3, 2, 1), (0, 1, 5, 4), (0, 4, 7, 3), (1, 2, 6, 5), (2, 3, 7, 6), (4, 5, 6, 7))
+ELEMENT_NAMES = {
+    1: "line",
+    2: "triangle",
+    3: "quadrangle",
+    4: "tetrahedron",
+    5: "hexahedron",
+    6: "prism",
+    7: "pyramid",
+    15: "point",
+}
 
 
 class MeshError(Exception):
@@ -81,7 +91,7 @@ def read_msh(path):
                     tag = int(s[0])
                     k = 4 if dim == 0 else 7
                     nph = int(s[k])
-                    ent_phys[(dim, tag)] = [int(t) for t in s[k + 1:k + 1 + nph]]
+                    ent_phys[(dim, tag)] = [int(t) for t in s[k + 1 : k + 1 + nph]]
         elif line == "$Nodes":
             nb, _, _, _ = [int(c) for c in nxt().split()]
             for _ in range(nb):
@@ -112,9 +122,11 @@ def read_msh(path):
 
 
 def det3(a, b, c):
-    return (a[0] * (b[1] * c[2] - b[2] * c[1])
-            - a[1] * (b[0] * c[2] - b[2] * c[0])
-            + a[2] * (b[0] * c[1] - b[1] * c[0]))
+    return (
+        a[0] * (b[1] * c[2] - b[2] * c[1])
+        - a[1] * (b[0] * c[2] - b[2] * c[0])
+        + a[2] * (b[0] * c[1] - b[1] * c[0])
+    )
 
 
 def sub(p, q):
@@ -123,7 +135,7 @@ def sub(p, q):
 
 def hex_volume(x):
     """Exact volume of a trilinear hexahedron (2x2x2 Gauss is exact)."""
-    g = 0.5 / 3 ** 0.5
+    g = 0.5 / 3**0.5
     vol = 0.0
     for a in (0.5 - g, 0.5 + g):
         for b in (0.5 - g, 0.5 + g):
@@ -134,8 +146,9 @@ def hex_volume(x):
                 dxb = [0.0, 0.0, 0.0]
                 dxc = [0.0, 0.0, 0.0]
                 # shape functions: node (i,j,k) -> index
-                for idx, (i, j, k) in enumerate(((0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0),
-                                                 (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1))):
+                for idx, (i, j, k) in enumerate(
+                    ((0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1))
+                ):
                     fa = a if i else 1 - a
                     fb = b if j else 1 - b
                     fc = c if k else 1 - c
@@ -269,12 +282,24 @@ def main(argv):
             continue
         nv = r["femur_vertices"] + r["tibia_vertices"]
         status = "ok  " if not r["errors"] else "FAIL"
-        print("%s %s: hex %d (femur %d, tibia %d), vertices femur %d tibia %d, "
-              "Q1 DoFs %d, meshed volume femur %.6g tibia %.6g mm^3, "
-              "min scaled corner Jacobian %.3f"
-              % (status, path, r["hexahedra"], r["femur_hexahedra"], r["tibia_hexahedra"],
-                 r["femur_vertices"], r["tibia_vertices"], 3 * nv,
-                 r["femur_volume"], r["tibia_volume"], r["min_corner_quality"]))
+        print(
+            "%s %s: hex %d (femur %d, tibia %d), vertices femur %d tibia %d, "
+            "Q1 DoFs %d, meshed volume femur %.6g tibia %.6g mm^3, "
+            "min scaled corner Jacobian %.3f"
+            % (
+                status,
+                path,
+                r["hexahedra"],
+                r["femur_hexahedra"],
+                r["tibia_hexahedra"],
+                r["femur_vertices"],
+                r["tibia_vertices"],
+                3 * nv,
+                r["femur_volume"],
+                r["tibia_volume"],
+                r["min_corner_quality"],
+            )
+        )
         if not quiet:
             print("     quads: " + ", ".join("%s %d" % kv for kv in sorted(r["quads"].items())))
         for e in r["errors"]:

@@ -74,17 +74,16 @@ class SizeField:
         n = np.ceil((hi - lo) / cell).astype(int) + 1
         g = np.stack(np.meshgrid(*[lo[i] + cell * np.arange(n[i]) for i in range(3)], indexing="ij"), -1)
         self.d_own = self._distance(g.reshape(-1, 3), own).reshape(n)
-        self.d_other = (None if other is None
-                        else self._distance(g.reshape(-1, 3), other).reshape(n))
+        self.d_other = None if other is None else self._distance(g.reshape(-1, 3), other).reshape(n)
         self.n = n
 
     @staticmethod
     def _distance(X, P, chunk=4000):
         out = np.empty(len(X))
         for i in range(0, len(X), chunk):
-            x = X[i:i + chunk]
+            x = X[i : i + chunk]
             d2 = (x * x).sum(1)[:, None] - 2 * x @ P.T + (P * P).sum(1)[None, :]
-            out[i:i + chunk] = np.sqrt(np.maximum(d2.min(axis=1), 0.0))
+            out[i : i + chunk] = np.sqrt(np.maximum(d2.min(axis=1), 0.0))
         return out
 
     def __call__(self, dim, tag, x, y, z):
@@ -107,10 +106,11 @@ def width_caps():
     try:
         for _, s in gmsh.model.getEntities(2):
             area = gmsh.model.occ.getMass(2, s)
-            perimeter = sum(gmsh.model.occ.getMass(1, abs(c))
-                            for _, c in gmsh.model.getBoundary([(2, s)], oriented=False))
+            perimeter = sum(
+                gmsh.model.occ.getMass(1, abs(c)) for _, c in gmsh.model.getBoundary([(2, s)], oriented=False)
+            )
             caps[(2, s)] = 4.0 * area / perimeter
-    except Exception:   # not an OpenCASCADE model (STL)
+    except Exception:  # not an OpenCASCADE model (STL)
         return {}
     for dim in (1, 0):
         for _, e in gmsh.model.getEntities(dim):
@@ -191,13 +191,13 @@ def orient_outward(X, tris):
         while queue:
             t = queue.pop()
             a, b, c = tris[t]
-            for (p, q) in ((a, b), (b, c), (c, a)):
+            for p, q in ((a, b), (b, c), (c, a)):
                 for u in edges[frozenset((p, q))]:
                     if u == t or done[u]:
                         continue
                     tu = list(tris[u])
                     i = tu.index(p)
-                    if tu[(i + 1) % 3] == q:   # same direction: flip
+                    if tu[(i + 1) % 3] == q:  # same direction: flip
                         tris[u] = tris[u][::-1]
                     done[u] = True
                     queue.append(u)
@@ -243,12 +243,12 @@ def layer_direction(contact_normals, other_normals):
         rank = int(np.sum(sv > 1e-6))
         if rank >= 3:
             return None
-        basis = vt[rank:].T                      # 3 x (3 - rank)
+        basis = vt[rank:].T  # 3 x (3 - rank)
     else:
         basis = np.eye(3)
     y, *_ = np.linalg.lstsq(A @ basis, np.ones(len(A)), rcond=None)
     d = basis @ y
-    if np.min(A @ d) < 0.3:                  # cannot go (enough) below every face
+    if np.min(A @ d) < 0.3:  # cannot go (enough) below every face
         return None
     return d
 
@@ -304,23 +304,31 @@ def build_layer(X, tris, face, ent, groups, layers, thickness, ratio, project):
         else:
             target[a] = (-1, -1)
     if len(bad) > max(2, 0.002 * len(c_nodes)):
-        raise RuntimeError("%d nodes of the articular faces have no direction into the body "
-                           "(a sharp edge next to them?), e.g. at %s; give the articular surface as its own "
-                           "STL (--femur-contact-stl, --insert-contact-stl) or try another --patch-angle"
-                           % (len(bad), bad[0]))
+        raise RuntimeError(
+            "%d nodes of the articular faces have no direction into the body "
+            "(a sharp edge next to them?), e.g. at %s; give the articular surface as its own "
+            "STL (--femur-contact-stl, --insert-contact-stl) or try another --patch-angle"
+            % (len(bad), bad[0])
+        )
     level = {(a, 0): a for a in c_nodes}
     for k in range(1, layers + 1):
         for i, a in enumerate(c_nodes):
             level[(a, k)] = len(X) + i * layers + k - 1
-    prisms = np.array([[level[(v, k)] for v in tri] + [level[(v, k + 1)] for v in tri]
-                       for tri in tris[is_c] for k in range(layers)], np.int64)
+    prisms = np.array(
+        [
+            [level[(v, k)] for v in tri] + [level[(v, k + 1)] for v in tri]
+            for tri in tris[is_c]
+            for k in range(layers)
+        ],
+        np.int64,
+    )
     # the columns, thinned where a prism folds or degenerates (concave or
     # thin places): the nodes of such prisms get 0.7 of their depth, again
     # until every prism is fine
     depth = np.full(len(c_nodes), float(thickness))
     column = -np.ones(len(X) + layers * len(c_nodes), np.int64)
     column[c_nodes] = np.arange(len(c_nodes))
-    column[len(X):] = np.repeat(np.arange(len(c_nodes)), layers)
+    column[len(X) :] = np.repeat(np.arange(len(c_nodes)), layers)
     # straight: columns whose layer nodes stay where their direction puts
     # them instead of going onto their neighbouring face; projected onto a
     # face that curves away, or onto the finer surface, they can move by
@@ -333,6 +341,7 @@ def build_layer(X, tris, face, ent, groups, layers, thickness, ratio, project):
     def folded_with(P):
         # NaN quality (a column of zero length) counts as folded
         return ~(prism_quality(np.concatenate([X, P.reshape(-1, 3)]), prisms) >= 0.05)
+
     for _ in range(12):
         U = X[c_nodes][:, None, :] + depth[:, None, None] * frac[None, 1:, None] * directions[:, None, :]
         P = U.copy()
@@ -363,8 +372,10 @@ def build_layer(X, tris, face, ent, groups, layers, thickness, ratio, project):
                 break
             depth = capped
     else:
-        raise RuntimeError("%d prisms of the contact layer stay folded, e.g. at %s; try a smaller "
-                           "--layer-thickness" % (int(folded.sum()), nodes[prisms[folded][0]].mean(axis=0)))
+        raise RuntimeError(
+            "%d prisms of the contact layer stay folded, e.g. at %s; try a smaller "
+            "--layer-thickness" % (int(folded.sum()), nodes[prisms[folded][0]].mean(axis=0))
+        )
     body = LayeredBody()
     body.thinned = int(np.sum(depth < thickness))
     body.off_face = int(straight.sum())
@@ -392,8 +403,9 @@ def build_layer(X, tris, face, ent, groups, layers, thickness, ratio, project):
         if is_c[ts[0]] != is_c[ts[1]]:
             a, b = sorted(e)
             s = face[ts[1]] if is_c[ts[0]] else face[ts[0]]
-            band.append(([level[(a, k)] for k in range(layers + 1)],
-                         [level[(b, k)] for k in range(layers + 1)], s))
+            band.append(
+                ([level[(a, k)] for k in range(layers + 1)], [level[(b, k)] for k in range(layers + 1)], s)
+            )
     body.band = band
     body.layers = layers
     morph_next_to_layer(body, tris[~is_c], c_nodes, project)
@@ -409,10 +421,19 @@ def prism_quality(nodes, prisms):
     q = np.full(len(prisms), np.inf)
     for i in range(3):
         v, nx, pv = i, (i + 1) % 3, (i + 2) % 3
-        pts = np.stack([X[b[:, v]], 0.5 * (X[b[:, v]] + X[b[:, nx]]), X[b].mean(axis=1),
-                        0.5 * (X[b[:, v]] + X[b[:, pv]]),
-                        X[t[:, v]], 0.5 * (X[t[:, v]] + X[t[:, nx]]), X[t].mean(axis=1),
-                        0.5 * (X[t[:, v]] + X[t[:, pv]])], axis=1)
+        pts = np.stack(
+            [
+                X[b[:, v]],
+                0.5 * (X[b[:, v]] + X[b[:, nx]]),
+                X[b].mean(axis=1),
+                0.5 * (X[b[:, v]] + X[b[:, pv]]),
+                X[t[:, v]],
+                0.5 * (X[t[:, v]] + X[t[:, nx]]),
+                X[t].mean(axis=1),
+                0.5 * (X[t[:, v]] + X[t[:, pv]]),
+            ],
+            axis=1,
+        )
         n = len(prisms)
         with np.errstate(invalid="ignore", divide="ignore"):
             jac = blockmesh.corner_jacobians(pts.reshape(-1, 3), np.arange(8 * n).reshape(n, 8))
@@ -452,7 +473,7 @@ def morph_next_to_layer(body, tris, c_nodes, project, reach=4.0):
     u = X[body.moved[edge]] - X[edge]
     umax = np.linalg.norm(u, axis=1).max()
     free = np.setdiff1d(np.unique(tris), edge)
-    free = free[body.node_ent[free][:, 0] >= 1]           # not on CAD points
+    free = free[body.node_ent[free][:, 0] >= 1]  # not on CAD points
     r = np.linalg.norm(X[free][:, None, :] - X[edge][None, :, :], axis=2)
     near = r.min(axis=1) < reach * umax
     free, r = free[near], r[near]
@@ -475,6 +496,7 @@ def in_child(fn, *args):
     every later mesh generation silently empty) after an exception inside
     generate(): a mesher that may fail runs in a child."""
     import pickle
+
     sys.stdout.flush()
     sys.stderr.flush()
     r, w = os.pipe()
@@ -530,16 +552,18 @@ def mesh_core(body, size):
     the new nodes to body.nodes and returns the tetrahedra (T x 4)."""
     used = np.unique(body.core_tris)
     local = -np.ones(len(body.nodes), np.int64)
-    local[used] = np.arange(1, len(used) + 1)      # gmsh wants dense tags
+    local[used] = np.arange(1, len(used) + 1)  # gmsh wants dense tags
     gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 1)
     gmsh.option.setNumber("Mesh.MeshSizeMax", size)
     gmsh.option.setNumber("Mesh.Algorithm3D", 1)
     gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 0)
     tets, inner, coords, on_surface, xs = in_child(core_tets, body.nodes[used], local[body.core_tris], size)
     if len(on_surface) != len(used) or not np.allclose(
-            xs.reshape(-1, 3)[np.argsort(on_surface)], body.nodes[used]):
-        raise RuntimeError("tetrahedral meshing of the core added %d boundary nodes"
-                           % (len(on_surface) - len(used)))
+        xs.reshape(-1, 3)[np.argsort(on_surface)], body.nodes[used]
+    ):
+        raise RuntimeError(
+            "tetrahedral meshing of the core added %d boundary nodes" % (len(on_surface) - len(used))
+        )
     renum = {i + 1: int(v) for i, v in enumerate(used)}
     n = len(body.nodes)
     for i, t in enumerate(inner):
@@ -592,35 +616,59 @@ def split_into_hexes(body, tets, groups, curve_edges, project):
         bot, top = p[:3], p[3:]
         for i in range(3):
             v, nx, pv = i, (i + 1) % 3, (i + 2) % 3
-            from_prisms.append([bot[v], sp.edge(bot[v], bot[nx]), sp.tri(*bot), sp.edge(bot[v], bot[pv]),
-                                top[v], sp.edge(top[v], top[nx]), sp.tri(*top), sp.edge(top[v], top[pv])])
+            from_prisms.append(
+                [
+                    bot[v],
+                    sp.edge(bot[v], bot[nx]),
+                    sp.tri(*bot),
+                    sp.edge(bot[v], bot[pv]),
+                    top[v],
+                    sp.edge(top[v], top[nx]),
+                    sp.tri(*top),
+                    sp.edge(top[v], top[pv]),
+                ]
+            )
     X = body.nodes
-    vol = np.einsum("ij,ij->i", X[tets[:, 1]] - X[tets[:, 0]],
-                    np.cross(X[tets[:, 2]] - X[tets[:, 0]], X[tets[:, 3]] - X[tets[:, 0]]))
-    tets = np.where((vol < 0)[:, None], tets[:, [0, 2, 1, 3]], tets)   # gmsh's turn both ways
+    vol = np.einsum(
+        "ij,ij->i",
+        X[tets[:, 1]] - X[tets[:, 0]],
+        np.cross(X[tets[:, 2]] - X[tets[:, 0]], X[tets[:, 3]] - X[tets[:, 0]]),
+    )
+    tets = np.where((vol < 0)[:, None], tets[:, [0, 2, 1, 3]], tets)  # gmsh's turn both ways
     for t in tets:
         c = sp.centre(t)
         for i in range(4):
             v = t[i]
-            p, q, r = [t[j] for j in ((1, 2, 3), (2, 0, 3), (0, 1, 3), (1, 0, 2))[i]]   # (v p q r) even
-            from_tets.append([v, sp.edge(v, p), sp.tri(v, p, q), sp.edge(v, q),
-                              sp.edge(v, r), sp.tri(v, p, r), c, sp.tri(v, q, r)])
+            p, q, r = [t[j] for j in ((1, 2, 3), (2, 0, 3), (0, 1, 3), (1, 0, 2))[i]]  # (v p q r) even
+            from_tets.append(
+                [
+                    v,
+                    sp.edge(v, p),
+                    sp.tri(v, p, q),
+                    sp.edge(v, q),
+                    sp.edge(v, r),
+                    sp.tri(v, p, r),
+                    c,
+                    sp.tri(v, q, r),
+                ]
+            )
     quads = {}
     # boundary triangles: three quadrangles each
-    on_face = {}                                # new boundary node -> (kind, tag)
+    on_face = {}  # new boundary node -> (kind, tag)
     for tri, s in zip(body.boundary_tris, body.boundary_face):
         a, b, c = tri
         g = sp.tri(a, b, c)
         on_face[g] = (2, s)
         m = {}
-        for (u, v) in ((a, b), (b, c), (c, a)):
+        for u, v in ((a, b), (b, c), (c, a)):
             m[(u, v)] = sp.edge(u, v)
             cv = curve_edges.get(frozenset((u, v)))
             on_face.setdefault(m[(u, v)], (1, cv) if cv is not None else (2, s))
         group = groups.get(s)
         if group:
             quads.setdefault(group, []).extend(
-                [[a, m[(a, b)], g, m[(c, a)]], [b, m[(b, c)], g, m[(a, b)]], [c, m[(c, a)], g, m[(b, c)]]])
+                [[a, m[(a, b)], g, m[(c, a)]], [b, m[(b, c)], g, m[(a, b)]], [c, m[(c, a)], g, m[(b, c)]]]
+            )
     # the layer's side walls: two quadrangles per prism side
     for lo, hi, s in body.band:
         for k in range(body.layers):
@@ -637,7 +685,9 @@ def split_into_hexes(body, tets, groups, curve_edges, project):
         h = np.array(h, np.int64).reshape(-1, 8)
         sign = np.sign(centre_jacobians(straight, h))
         if len(np.unique(sign)) > 1:
-            raise RuntimeError("%d hexahedra of a %s are inverted" % (min(np.sum(sign > 0), np.sum(sign < 0)), kind))
+            raise RuntimeError(
+                "%d hexahedra of a %s are inverted" % (min(np.sum(sign > 0), np.sum(sign < 0)), kind)
+            )
         hexes.append(h if len(h) == 0 or sign[0] > 0 else h[:, [0, 3, 2, 1, 4, 7, 6, 5]])
     hexes = blockmesh.orient_hexes(straight, np.concatenate(hexes))
     nodes = straight.copy()
@@ -647,8 +697,9 @@ def split_into_hexes(body, tets, groups, curve_edges, project):
     for (kind, tag), vs in by_target.items():
         nodes[vs] = project(kind, tag, nodes[vs])
     body.n_straight = keep_valid(straight, nodes, hexes, np.array(sorted(on_face), np.int64))
-    surfaces = {g: blockmesh.orient_quads_outward(nodes, hexes, np.array(q, np.int64))
-                for g, q in quads.items()}
+    surfaces = {
+        g: blockmesh.orient_quads_outward(nodes, hexes, np.array(q, np.int64)) for g, q in quads.items()
+    }
     return nodes, hexes, surfaces
 
 
@@ -701,8 +752,9 @@ def contact_layer_quality(nodes, hexes, surfaces):
     return out
 
 
-def mesh_body(vol, groups, size_field, size, layers, thickness, ratio, cad, notes, fine_faces=None,
-              smooth=None):
+def mesh_body(
+    vol, groups, size_field, size, layers, thickness, ratio, cad, notes, fine_faces=None, smooth=None
+):
     """Steps 1-4 for volume `vol` of the current gmsh model (its faces
     classified into `groups`; sizes from size_field, a SizeField; cad: new
     boundary nodes go onto the OpenCASCADE faces, else onto the boundary
@@ -723,6 +775,7 @@ def mesh_body(vol, groups, size_field, size, layers, thickness, ratio, cad, note
             if tag in smooth and len(P):
                 P = smooth[tag](P.reshape(-1, 3)).reshape(P.shape)
             return P
+
     body = build_layer(X, tris, face, ent, groups, layers, thickness, ratio, project)
     tets = mesh_core(body, size)
     out = split_into_hexes(body, tets, groups, curve_edges, project)
@@ -779,6 +832,7 @@ def mesh_projector(X, tris, face, curve_edges):
             return closest_on_triangles(P, by_face[tag])
         S = np.array(by_curve[tag])
         return closest_on_triangles(P, np.stack([S[:, 0], S[:, 1], S[:, 1]], axis=1))
+
     return project
 
 
@@ -788,6 +842,7 @@ def surface_projector(by_face, candidates=16):
     faces (kind 2); other points stay: for surfaces tagged per patch (no
     curves), projected onto their finer repaired surface."""
     from scipy.spatial import cKDTree
+
     trees = {s: cKDTree(T.mean(axis=1)) for s, T in by_face.items() if len(T)}
 
     def project(kind, tag, P):
@@ -799,16 +854,19 @@ def surface_projector(by_face, candidates=16):
         idx = idx.reshape(len(idx), -1)
         out = np.array([closest_on_triangles(p[None], T[i])[0] for p, i in zip(P.reshape(-1, 3), idx)])
         return out.reshape(P.shape)
+
     return project
 
 
 def cad_projector():
     """project(kind, tag, points) onto the entities of the current gmsh
     model (closest point)."""
+
     def project(kind, tag, P):
         P = np.asarray(P, float)
         if tag is None or len(P) == 0:
             return P
         out, _ = gmsh.model.getClosestPoint(kind, int(tag), P.reshape(-1))
         return np.array(out).reshape(P.shape)
+
     return project

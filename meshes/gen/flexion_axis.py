@@ -49,10 +49,13 @@ def condyle_arc(points, depth, band=1.5):
     x, y, z = near[:, 0] - apex[0], near[:, 1], near[:, 2]
     middle = np.abs(y - apex[1]) <= 3.0
     if middle.sum() >= 4 and np.ptp(x[middle]) > 0.2 * band:
-        (c, b, k), *_ = np.linalg.lstsq(np.column_stack([np.ones(middle.sum()), x[middle], x[middle] ** 2]),
-                                         z[middle] - (y[middle] - apex[1]) ** 2 / 1e9, rcond=None)
+        (c, b, k), *_ = np.linalg.lstsq(
+            np.column_stack([np.ones(middle.sum()), x[middle], x[middle] ** 2]),
+            z[middle] - (y[middle] - apex[1]) ** 2 / 1e9,
+            rcond=None,
+        )
         if k > 0:
-            z = z - b * x - k * x ** 2
+            z = z - b * x - k * x**2
     if len(y) < 5:
         raise ValueError("fewer than 5 nodes within %g mm of the lowest point" % depth)
     return fit_circle(y, z) + (int(len(y)),)
@@ -66,8 +69,9 @@ def estimate(nodes, depth=2.0):
     arcs = {}
     for name, side in (("-x", x < middle), ("+x", x >= middle)):
         yc, zc, r, rms, n = condyle_arc(nodes[side], depth)
-        arcs[name] = dict(centre=(yc, zc), radius=r, rms=rms, points=n,
-                          lowest_z=float(nodes[side][:, 2].min()))
+        arcs[name] = dict(
+            centre=(yc, zc), radius=r, rms=rms, points=n, lowest_z=float(nodes[side][:, 2].min())
+        )
     yc = np.mean([a["centre"][0] for a in arcs.values()])
     zc = np.mean([a["centre"][1] for a in arcs.values()])
     return dict(point=(0.0, float(yc), float(zc)), condyles=arcs)
@@ -76,9 +80,11 @@ def estimate(nodes, depth=2.0):
 def describe(result):
     lines = []
     for name, a in result["condyles"].items():
-        lines.append("  condyle at %s: distal arc centre (y, z) = (%.3f, %.3f) mm, radius %.2f mm, "
-                     "%d profile points, rms %.3f mm" % (name, a["centre"][0], a["centre"][1],
-                                                       a["radius"], a["points"], a["rms"]))
+        lines.append(
+            "  condyle at %s: distal arc centre (y, z) = (%.3f, %.3f) mm, radius %.2f mm, "
+            "%d profile points, rms %.3f mm"
+            % (name, a["centre"][0], a["centre"][1], a["radius"], a["points"], a["rms"])
+        )
     lines.append("  flexion axis estimate: through (%.3f, %.3f, %.3f), parallel to x" % result["point"])
     return "\n".join(lines)
 
@@ -87,6 +93,7 @@ def prm_fragment(mesh_path, result, insert_width):
     """A ready-to-run parameter file for the wear run on @p mesh_path, with
     the estimated flexion axis."""
     import os
+
     stem = os.path.splitext(os.path.basename(mesh_path))[0]
     condyles = result["condyles"]
     lines = [
@@ -105,8 +112,10 @@ def prm_fragment(mesh_path, result, insert_width):
         "  # of the distal arc of each condyle in the sagittal plane,",
     ]
     for name, a in condyles.items():
-        lines.append("  #   condyle at %s: (y, z) = (%.3f, %.3f), radius %.2f mm, rms %.3f mm"
-                     % (name, a["centre"][0], a["centre"][1], a["radius"], a["rms"]))
+        lines.append(
+            "  #   condyle at %s: (y, z) = (%.3f, %.3f), radius %.2f mm, rms %.3f mm"
+            % (name, a["centre"][0], a["centre"][1], a["radius"], a["rms"])
+        )
     lines += [
         "  # averaged. Check it against your CAD: a wrong axis moves the femur",
         "  # into or away from the insert as it flexes.",
@@ -132,6 +141,7 @@ def prm_fragment(mesh_path, result, insert_width):
 def read_group_nodes(path, group):
     """Coordinates of the nodes of a physical group of a .msh file."""
     import gmsh
+
     gmsh.initialize(["gmsh", "-v", "0"])
     try:
         gmsh.open(path)
@@ -145,11 +155,14 @@ def read_group_nodes(path, group):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("mesh")
-    ap.add_argument("--depth", type=float, default=2.0,
-                    help="height (mm) above the lowest point of the profile used for the fit")
+    ap.add_argument(
+        "--depth",
+        type=float,
+        default=2.0,
+        help="height (mm) above the lowest point of the profile used for the fit",
+    )
     ap.add_argument("--expect", help="Y,Z: exit 1 unless the estimate is within --tolerance of it")
     ap.add_argument("--tolerance", type=float, default=0.5)
     ap.add_argument("--prm", help="also write the parameter file of prm_fragment() here")
@@ -164,8 +177,10 @@ def main(argv=None):
     if args.expect:
         y, z = (float(t) for t in args.expect.split(","))
         distance = np.hypot(result["point"][1] - y, result["point"][2] - z)
-        print("  distance from (%g, %g): %.3f mm (tolerance %g): %s"
-              % (y, z, distance, args.tolerance, "ok" if distance <= args.tolerance else "FAILED"))
+        print(
+            "  distance from (%g, %g): %.3f mm (tolerance %g): %s"
+            % (y, z, distance, args.tolerance, "ok" if distance <= args.tolerance else "FAILED")
+        )
         return 0 if distance <= args.tolerance else 1
     return 0
 

@@ -31,14 +31,14 @@ def extract(vol, groups, label):
             continue
         for et, _, nt in zip(*gmsh.model.mesh.getElements(2, s)):
             if et != 3:
-                raise SystemExit("error: surface %d of %s has elements of type %d"
-                                 % (s, label, et))
+                raise SystemExit("error: surface %d of %s has elements of type %d" % (s, label, et))
             quads.setdefault(g, []).append(np.array(nt, dtype=np.int64).reshape(-1, 4))
     used = np.unique(hexes)
     renum = -np.ones(len(X), np.int64)
     renum[used] = np.arange(len(used))
     nodes = X[used]
     hexes = blockmesh.orient_hexes(nodes, renum[hexes])
-    surfaces = {g: blockmesh.orient_quads_outward(nodes, hexes, renum[np.concatenate(q)])
-                for g, q in quads.items()}
+    surfaces = {
+        g: blockmesh.orient_quads_outward(nodes, hexes, renum[np.concatenate(q)]) for g, q in quads.items()
+    }
     return nodes, hexes, surfaces

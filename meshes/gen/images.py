@@ -25,14 +25,25 @@ def render(msh, outdir, views=VIEWS):
     try:
         gmsh.open(msh)
         phys = {gmsh.model.getPhysicalName(d, t): (d, t) for d, t in gmsh.model.getPhysicalGroups()}
-        ents = {name: [(d, e) for e in gmsh.model.getEntitiesForPhysicalGroup(d, t)]
-                for name, (d, t) in phys.items()}
+        ents = {
+            name: [(d, e) for e in gmsh.model.getEntitiesForPhysicalGroup(d, t)]
+            for name, (d, t) in phys.items()
+        }
         gmsh.fltk.initialize()
-        opts = {"General.GraphicsWidth": 1000, "General.GraphicsHeight": 750,
-                "General.Trackball": 0, "General.SmallAxes": 1, "General.Axes": 0,
-                "Mesh.SurfaceEdges": 0, "Mesh.SurfaceFaces": 0,
-                "Mesh.VolumeEdges": 1, "Mesh.VolumeFaces": 1, "Mesh.Light": 1,
-                "Mesh.ColorCarousel": 2, "General.Orthographic": 1}
+        opts = {
+            "General.GraphicsWidth": 1000,
+            "General.GraphicsHeight": 750,
+            "General.Trackball": 0,
+            "General.SmallAxes": 1,
+            "General.Axes": 0,
+            "Mesh.SurfaceEdges": 0,
+            "Mesh.SurfaceFaces": 0,
+            "Mesh.VolumeEdges": 1,
+            "Mesh.VolumeFaces": 1,
+            "Mesh.Light": 1,
+            "Mesh.ColorCarousel": 2,
+            "General.Orthographic": 1,
+        }
         for k, v in opts.items():
             gmsh.option.setNumber(k, v)
         gmsh.option.setColor("General.Background", 255, 255, 255)

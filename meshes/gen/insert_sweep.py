@@ -65,8 +65,14 @@ def boundary_triangles(vol):
         n = np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0])
         n = sign * n / np.linalg.norm(n, axis=1)[:, None]
         out[s] = (P, n)
-    vol6 = sum(np.einsum("ij,ij->i", P.mean(axis=1), n * 0.5 * np.linalg.norm(
-        np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1)[:, None]).sum() for P, n in out.values())
+    vol6 = sum(
+        np.einsum(
+            "ij,ij->i",
+            P.mean(axis=1),
+            n * 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1)[:, None],
+        ).sum()
+        for P, n in out.values()
+    )
     if vol6 < 0:
         out = {s: (P, -n) for s, (P, n) in out.items()}
     return out
@@ -109,29 +115,37 @@ def sort_faces(faces, groups, normals, flat_tol=1e-6, flat_normal=0.9999, rim=()
     z = np.concatenate([faces[s][0][..., 2].ravel() for s in base])
     z0 = float(z.mean())
     if np.ptp(z) > flat_tol or any(np.min(-normals[s][:, 2]) < flat_normal for s in base):
-        raise NotSweepable("the base (faces %s) is not flat and horizontal (heights %.3g .. %.3g mm, "
-                           "within %g)" % (base, z.min(), z.max(), flat_tol))
+        raise NotSweepable(
+            "the base (faces %s) is not flat and horizontal (heights %.3g .. %.3g mm, "
+            "within %g)" % (base, z.min(), z.max(), flat_tol)
+        )
     area = lambda P, n: triangle_areas(P)
     walls, top = [], []
     for s in faces:
         n = normals[s]
         if s in base or s in rim:
             continue
-        if np.max(np.abs(n[:, 2])) < (1e-6 if n is not faces[s][1] else 0.15):   # STL: chords of curved walls tilt
+        if np.max(np.abs(n[:, 2])) < (
+            1e-6 if n is not faces[s][1] else 0.15
+        ):  # STL: chords of curved walls tilt
             walls.append(s)
         elif np.min(n[:, 2]) > 0.02:
             top.append(s)
         elif n is faces[s][1] and area(*faces[s]).sum() < 1.0:
-            walls.append(s)   # STL: a sliver that remeshing left in a corner (a post's foot)
+            walls.append(s)  # STL: a sliver that remeshing left in a corner (a post's foot)
         else:
-            raise NotSweepable("face %d is neither vertical nor facing up everywhere "
-                               "(normals n_z from %.2f to %.2f)" % (s, n[:, 2].min(), n[:, 2].max()))
+            raise NotSweepable(
+                "face %d is neither vertical nor facing up everywhere "
+                "(normals n_z from %.2f to %.2f)" % (s, n[:, 2].min(), n[:, 2].max())
+            )
     base_area = sum(area(*faces[s]).sum() for s in base) + sum(
-        (area(*faces[s]) * -faces[s][1][:, 2]).sum() for s in rim)
+        (area(*faces[s]) * -faces[s][1][:, 2]).sum() for s in rim
+    )
     plan_area = sum((area(*faces[s]) * faces[s][1][:, 2]).sum() for s in top)
     if abs(plan_area / base_area - 1) > 2e-3:
-        raise NotSweepable("the top faces cover %.1f mm^2 in plan, the base %.1f mm^2 (overhangs?)"
-                           % (plan_area, base_area))
+        raise NotSweepable(
+            "the top faces cover %.1f mm^2 in plan, the base %.1f mm^2 (overhangs?)" % (plan_area, base_area)
+        )
     return base, z0, walls, top
 
 
@@ -181,13 +195,18 @@ def split_rim(faces, groups, flat_tol, flat_normal):
     for s, (P, n) in faces.items():
         flat = (np.abs(P[..., 2] - z_min).max(axis=1) <= flat_tol) & (-n[:, 2] >= flat_normal)
         # (a flat floor facing down above the base, a locking recess's, is no rim)
-        m = (P[..., 2].max(axis=1) < reach) & (n[:, 2] < 0.3) & (np.abs(n[:, 2]) >= 0.15) & ~flat \
+        m = (
+            (P[..., 2].max(axis=1) < reach)
+            & (n[:, 2] < 0.3)
+            & (np.abs(n[:, 2]) >= 0.15)
+            & ~flat
             & (-n[:, 2] < flat_normal)
+        )
         out[s] = (P, n)
         if not np.any(m):
             continue
         if np.all(m):
-            rim.append(s)      # the whole face is rim (a tibia_inferior one too: a base's rounded edge)
+            rim.append(s)  # the whole face is rim (a tibia_inferior one too: a base's rounded edge)
             grp[s] = None
             continue
         out[s] = (P[~m], n[~m])
@@ -229,7 +248,7 @@ def split_recess(faces, groups, flat_tol):
                 out[s] = (P[keep], n[keep])
             continue
         elif floor_seen and P[..., 2].max() < reach and np.all(np.abs(n[:, 2]) < 0.15):
-            continue        # a recess's wall (below the top; no plan area)
+            continue  # a recess's wall (below the top; no plan area)
         out[s] = (P, n)
     return out, grp, floor, rim
 
@@ -237,8 +256,10 @@ def split_recess(faces, groups, flat_tol):
 def outer_loop(segs):
     """The segments of the closed loop that encloses the largest area (the
     outline of a base with a recess: not the recess's own outlines)."""
+
     def key(q):
         return (round(float(q[0]), 6), round(float(q[1]), 6))
+
     nxt = {}
     for i, (a, b) in enumerate(segs):
         nxt.setdefault(key(a), []).append(i)
@@ -412,8 +433,9 @@ def ray_to_outline(c, P, segs):
         u = (w[:, 0] * d[1] - w[:, 1] * d[0]) / den
         hit = ok & (u >= -1e-9) & (u <= 1 + 1e-9) & (t > 1e-9)
         if not np.any(hit):
-            raise NotSweepable("the ray from the base centroid through (%.2f, %.2f) misses the outline"
-                               % tuple(p))
+            raise NotSweepable(
+                "the ray from the base centroid through (%.2f, %.2f) misses the outline" % tuple(p)
+            )
         out[i] = c + np.min(t[hit]) * d
     return out
 
@@ -422,8 +444,10 @@ def plan_rectangle(c, segs, h):
     """Half sides (a, b) of the rectangle of the O-grid: as large as fits
     with at least two plan cells between its corners and the outline and
     one between its sides and the outline."""
-    reach = [np.linalg.norm(ray_to_outline(c, (c + v)[None], segs)[0] - c)
-             for v in ([1.0, 0], [-1.0, 0], [0, 1.0], [0, -1.0])]
+    reach = [
+        np.linalg.norm(ray_to_outline(c, (c + v)[None], segs)[0] - c)
+        for v in ([1.0, 0], [-1.0, 0], [0, 1.0], [0, -1.0])
+    ]
     A, B = min(reach[:2]), min(reach[2:])
     for lam in np.linspace(0.98, 0.3, 69):
         a, b = lam * A, lam * B
@@ -468,19 +492,31 @@ def plan_blocks(c, segs, h, feature=None):
         b2 = max(b, abs(y0 - c[1]) + h, abs(y1 - c[1]) + h)
         corners = c + np.array([[a2, b2], [-a2, b2], [-a2, -b2], [a2, -b2]])
         q = ray_to_outline(c, corners, segs)
-        if (np.all(np.einsum("ij,ij->i", q - corners, corners - c) > 0)
-                and np.min(np.linalg.norm(q - corners, axis=1)) >= h):
+        if (
+            np.all(np.einsum("ij,ij->i", q - corners, corners - c) > 0)
+            and np.min(np.linalg.norm(q - corners, axis=1)) >= h
+        ):
             a, b = a2, b2
-        if not (c[0] - a + 0.75 * h <= x0 and x1 <= c[0] + a - 0.75 * h
-                and c[1] - b + 0.75 * h <= y0 and y1 <= c[1] + b - 0.75 * h):
-            raise NotSweepable("the raised feature (x %.1f..%.1f, y %.1f..%.1f) does not fit inside the "
-                               "O-grid's rectangle (x %.1f..%.1f, y %.1f..%.1f)"
-                               % (x0, x1, y0, y1, c[0] - a, c[0] + a, c[1] - b, c[1] + b))
+        if not (
+            c[0] - a + 0.75 * h <= x0
+            and x1 <= c[0] + a - 0.75 * h
+            and c[1] - b + 0.75 * h <= y0
+            and y1 <= c[1] + b - 0.75 * h
+        ):
+            raise NotSweepable(
+                "the raised feature (x %.1f..%.1f, y %.1f..%.1f) does not fit inside the "
+                "O-grid's rectangle (x %.1f..%.1f, y %.1f..%.1f)"
+                % (x0, x1, y0, y1, c[0] - a, c[0] + a, c[1] - b, c[1] + b)
+            )
         x = grid_line_positions(c[0] - a, c[0] + a, h, (x0, x1))
         y = grid_line_positions(c[1] - b, c[1] + b, h, (y0, y1))
     rect = np.stack(np.meshgrid(x, y, indexing="ij"), axis=-1)
-    edges = [np.stack([np.full_like(y, x[-1]), y], -1), np.stack([np.full_like(y, x[0]), y], -1),
-             np.stack([x, np.full_like(x, y[-1])], -1), np.stack([x, np.full_like(x, y[0])], -1)]
+    edges = [
+        np.stack([np.full_like(y, x[-1]), y], -1),
+        np.stack([np.full_like(y, x[0]), y], -1),
+        np.stack([x, np.full_like(x, y[-1])], -1),
+        np.stack([x, np.full_like(x, y[0])], -1),
+    ]
     outs = [ray_to_outline(c, e, segs) for e in edges]
     width = max(np.max(np.linalg.norm(o - e, axis=1)) for e, o in zip(edges, outs))
     n_ring = max(1, int(math.ceil(width / h)))
@@ -497,11 +533,17 @@ def raised_feature(faces, inner, tol):
     P = np.concatenate([faces[s][0][..., :2].reshape(-1, 2) for s in inner])
     x0, y0 = P.min(axis=0)
     x1, y1 = P.max(axis=0)
-    on = [np.abs(P[:, 0] - x0) < tol, np.abs(P[:, 0] - x1) < tol,
-          np.abs(P[:, 1] - y0) < tol, np.abs(P[:, 1] - y1) < tol]
+    on = [
+        np.abs(P[:, 0] - x0) < tol,
+        np.abs(P[:, 0] - x1) < tol,
+        np.abs(P[:, 1] - y0) < tol,
+        np.abs(P[:, 1] - y1) < tol,
+    ]
     if not np.all(np.any(on, axis=0)):
-        raise NotSweepable("the vertical faces %s inside the base's outline do not form one axis-aligned "
-                           "rectangle in plan" % inner)
+        raise NotSweepable(
+            "the vertical faces %s inside the base's outline do not form one axis-aligned "
+            "rectangle in plan" % inner
+        )
     for m, k, lo, hi in ((on[0], 1, y0, y1), (on[1], 1, y0, y1), (on[2], 0, x0, x1), (on[3], 0, x0, x1)):
         v = np.sort(P[m, k])
         if v[0] > lo + tol or v[-1] < hi - tol or np.max(np.diff(v)) > 0.25 * (hi - lo) + 4.0:
@@ -515,9 +557,13 @@ def coons(B):
     ni, nj = B.shape
     u = np.linspace(0, 1, ni)[:, None]
     v = np.linspace(0, 1, nj)[None, :]
-    return ((1 - u) * B[0:1, :] + u * B[-1:, :] + (1 - v) * B[:, 0:1] + v * B[:, -1:]
-            - ((1 - u) * (1 - v) * B[0, 0] + u * (1 - v) * B[-1, 0] + (1 - u) * v * B[0, -1]
-               + u * v * B[-1, -1]))
+    return (
+        (1 - u) * B[0:1, :]
+        + u * B[-1:, :]
+        + (1 - v) * B[:, 0:1]
+        + v * B[:, -1:]
+        - ((1 - u) * (1 - v) * B[0, 0] + u * (1 - v) * B[-1, 0] + (1 - u) * v * B[0, -1] + u * v * B[-1, -1])
+    )
 
 
 # ------------------------------------------------------------------ body
@@ -537,7 +583,7 @@ def mesh_insert(vol, groups, h, cells, top_cell, cad, fine=None, smooth=None):
     STL repaired by tkr-surface), then put onto smooth(points) (a smooth
     surface through the input's vertices).  Raises NotSweepable."""
     faces = boundary_triangles(vol)
-    flat = (1e-6, 0.9999) if cad else (0.1, 0.98)   # STL: a scanned base within 0.1 mm
+    flat = (1e-6, 0.9999) if cad else (0.1, 0.98)  # STL: a scanned base within 0.1 mm
     rim = []
     if not cad:
         faces, groups = split_stl_faces(faces, groups)
@@ -546,26 +592,35 @@ def mesh_insert(vol, groups, h, cells, top_cell, cad, fine=None, smooth=None):
         rim = rim + low_rim
         if floor:
             P = np.concatenate([faces[s][0] for s in floor])
-            print("note: %d triangles (%.1f mm2) of the base lie above it (a recess, up to z = %.1f mm): the "
-                  "columns there stand on them" % (len(P), triangle_areas(P).sum(), P[..., 2].max()))
+            print(
+                "note: %d triangles (%.1f mm2) of the base lie above it (a recess, up to z = %.1f mm): the "
+                "columns there stand on them" % (len(P), triangle_areas(P).sum(), P[..., 2].max())
+            )
             rim = rim + floor
         if rim:
             P = np.concatenate([faces[s][0] for s in rim])
-            print("note: %d triangles (%.1f mm2) of a rounded rim between the insert's base and walls "
-                  "(up to z = %.1f mm) are filled back to a sharp rim by the sweep"
-                  % (len(P), triangle_areas(P).sum(), P[..., 2].max()))
+            print(
+                "note: %d triangles (%.1f mm2) of a rounded rim between the insert's base and walls "
+                "(up to z = %.1f mm) are filled back to a sharp rim by the sweep"
+                % (len(P), triangle_areas(P).sum(), P[..., 2].max())
+            )
     base, z0, walls, top = sort_faces(faces, groups, node_normals(faces, cad), *flat, rim=rim)
     P = np.concatenate([faces[s][0] for s in base])
     w = triangle_areas(P)
     c = (w[:, None] * P.mean(axis=1)[:, :2]).sum(axis=0) / w.sum()
-    every = outline_segments(base) if cad else boundary_edges_2d(np.concatenate([P] + [faces[s][0] for s in rim]))
-    segs = every if cad or not floor else outer_loop(every)   # a recess's outlines are no outline
-    tol = 1e-3 if cad else 0.5   # STL: chordal error of the walls
+    every = (
+        outline_segments(base) if cad else boundary_edges_2d(np.concatenate([P] + [faces[s][0] for s in rim]))
+    )
+    segs = every if cad or not floor else outer_loop(every)  # a recess's outlines are no outline
+    tol = 1e-3 if cad else 0.5  # STL: chordal error of the walls
     # (a recess's walls stand on its outlines: no raised feature; on an STL
     # most of a wall's corners must be inside: a rounded top rim's nearly
     # vertical triangles lean 0.6 mm in)
-    inner = [s for s in walls if (np.max if cad else np.median)(
-        plan_distance(faces[s][0][..., :2].reshape(-1, 2), every)) > tol]
+    inner = [
+        s
+        for s in walls
+        if (np.max if cad else np.median)(plan_distance(faces[s][0][..., :2].reshape(-1, 2), every)) > tol
+    ]
     feature = raised_feature(faces, inner, tol) if inner else None
     if fine is not None:
         n = np.cross(fine[:, 1] - fine[:, 0], fine[:, 2] - fine[:, 0])
@@ -584,8 +639,8 @@ def mesh_insert(vol, groups, h, cells, top_cell, cad, fine=None, smooth=None):
         x0, x1, y0, y1 = feature
         i0, i1 = (int(np.argmin(np.abs(rect[:, 0, 0] - v))) for v in (x0, x1))
         j0, j1 = (int(np.argmin(np.abs(rect[0, :, 1] - v))) for v in (y0, y1))
-        F = rect[i0:i1 + 1, j0:j1 + 1]
-        eps = 10 * tol if cad else 2 * tol   # STL: off the chords of the walls, not 5 mm into a chamfer
+        F = rect[i0 : i1 + 1, j0 : j1 + 1]
+        eps = 10 * tol if cad else 2 * tol  # STL: off the chords of the walls, not 5 mm into a chamfer
         ix = np.zeros(F.shape[:2])
         ix[0, :], ix[-1, :] = -1, 1
         iy = np.zeros(F.shape[:2])
@@ -601,7 +656,7 @@ def mesh_insert(vol, groups, h, cells, top_cell, cad, fine=None, smooth=None):
         lo = np.where(edge, lo, coons(lo))
         if np.min(hi - lo) <= tol:
             raise NotSweepable("the raised feature does not rise above the articular surface everywhere")
-        columns[0][i0:i1 + 1, j0:j1 + 1] = lo
+        columns[0][i0 : i1 + 1, j0 : j1 + 1] = lo
         m = max(1, int(math.ceil(np.max(hi - lo) / h)))
         t = np.linspace(0.0, 1.0, m + 1)
         Z = lo[..., None] + (hi - lo)[..., None] * t
@@ -631,13 +686,23 @@ def mesh_insert(vol, groups, h, cells, top_cell, cad, fine=None, smooth=None):
                 for ja, jb in ((0, j0), (j0, j1), (j1, X.shape[1] - 1)):
                     if ib > ia and jb > ja:
                         under = (ia, ja) == (i0, j0)
-                        body.add(X[ia:ib + 1, ja:jb + 1], {"kmin": "tibia_inferior",
-                                                           "kmax": None if under else "top"})
+                        body.add(
+                            X[ia : ib + 1, ja : jb + 1],
+                            {"kmin": "tibia_inferior", "kmax": None if under else "top"},
+                        )
         else:
             body.add(X, {"kmin": "tibia_inferior", "kmax": "top"})
     if upper is not None:
-        body.add(upper, {"kmax": "top", "imin": "inner wall", "imax": "inner wall",
-                         "jmin": "inner wall", "jmax": "inner wall"})
+        body.add(
+            upper,
+            {
+                "kmax": "top",
+                "imin": "inner wall",
+                "imax": "inner wall",
+                "jmin": "inner wall",
+                "jmax": "inner wall",
+            },
+        )
     nodes, hexes, surfaces = body.assemble()
     if not cad and floor:
         # only the seat bears on the tray: the feet on a recess's floor and
@@ -657,8 +722,9 @@ def mesh_insert(vol, groups, h, cells, top_cell, cad, fine=None, smooth=None):
     q = surfaces.pop("inner wall", None)
     if q is not None and any(groups.get(s) for s in inner):
         cen = nodes[q].mean(axis=1)
-        d = np.array([[np.min(np.linalg.norm(faces[s][0].mean(axis=1) - p, axis=1)) for s in inner]
-                      for p in cen])
+        d = np.array(
+            [[np.min(np.linalg.norm(faces[s][0].mean(axis=1) - p, axis=1)) for s in inner] for p in cen]
+        )
         f = np.array(inner)[np.argmin(d, axis=1)]
         for g in set(groups.get(s) for s in inner):
             if g:

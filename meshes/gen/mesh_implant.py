@@ -117,8 +117,9 @@ def read_stl(path):
     if len(data) >= 84:
         n = struct.unpack("<I", data[80:84])[0]
         if 84 + 50 * n == len(data):
-            rec = np.frombuffer(data[84:], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)),
-                                                          ("a", "<u2")]), count=n)
+            rec = np.frombuffer(
+                data[84:], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]), count=n
+            )
             return rec["v"].astype(float)
     vals = []
     for line in data.decode("ascii", "replace").splitlines():
@@ -156,13 +157,17 @@ CAD_EXTENSIONS = (".step", ".stp", ".iges", ".igs", ".brep")
 # Known gmsh failures on users' surfaces and what to try (mesh-implant says
 # them instead of a traceback).
 GMSH_HINTS = (
-    ("Wrong topology of boundary mesh for parametrization",
-     "the surface could not be split into faces that gmsh can parametrise (typical of decimated or "
-     "scanned STL surfaces): try --feature-angle 60 or 89, or repair and remesh the surface first"),
+    (
+        "Wrong topology of boundary mesh for parametrization",
+        "the surface could not be split into faces that gmsh can parametrise (typical of decimated or "
+        "scanned STL surfaces): try --feature-angle 60 or 89, or repair and remesh the surface first",
+    ),
     ("intersect", "the surface intersects itself: remove the self-intersections before meshing"),
     ("Could not read file", "the file could not be read as the format its name says: export it again"),
-    ("overlapping facets", "the tetrahedral mesher met overlapping facets: try another --contact-size or "
-                           "--method split"),
+    (
+        "overlapping facets",
+        "the tetrahedral mesher met overlapping facets: try another --contact-size or " "--method split",
+    ),
 )
 
 
@@ -172,8 +177,10 @@ def gmsh_failure(exc):
     for key, hint in GMSH_HINTS:
         if key in text:
             return "error: gmsh: %s; %s" % (text, hint)
-    return ("error: gmsh: %s; try --method split, other sizes, or check the input surfaces "
-            "(closed, not self-intersecting)" % text)
+    return (
+        "error: gmsh: %s; try --method split, other sizes, or check the input surfaces "
+        "(closed, not self-intersecting)" % text
+    )
 
 
 def import_cad(path, rotation):
@@ -227,20 +234,28 @@ def surface_tool():
     trees of this checkout, or the PATH."""
     import glob
     import shutil
+
     root = os.path.dirname(os.path.dirname(HERE))
-    for c in ([os.environ.get("TKR_SURFACE", "")] + [os.path.join(root, "build", "release", "tkr-surface")]
-              + sorted(glob.glob(os.path.join(root, "build", "*", "tkr-surface"))) + [shutil.which("tkr-surface")]):
+    for c in (
+        [os.environ.get("TKR_SURFACE", "")]
+        + [os.path.join(root, "build", "release", "tkr-surface")]
+        + sorted(glob.glob(os.path.join(root, "build", "*", "tkr-surface")))
+        + [shutil.which("tkr-surface")]
+    ):
         if c and os.path.isfile(c) and os.access(c, os.X_OK):
             return c
-    raise SystemExit("error: tkr-surface (the surface check and repair of STL inputs, apps/surface.cc) is not "
-                     "built: build tkr-wear (scripts/run-tests or cmake and make in build/release), set "
-                     "TKR_SURFACE to its path, or give --surface as-is to mesh the STL triangles as they are")
+    raise SystemExit(
+        "error: tkr-surface (the surface check and repair of STL inputs, apps/surface.cc) is not "
+        "built: build tkr-wear (scripts/run-tests or cmake and make in build/release), set "
+        "TKR_SURFACE to its path, or give --surface as-is to mesh the STL triangles as they are"
+    )
 
 
 def run_surface_tool(role, cmd, shown, log):
     """tkr-surface with its lines printed and logged as "surface ROLE: ...";
     a failure ends mesh-implant with one message."""
     import subprocess
+
     res = subprocess.run([surface_tool()] + cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     lines = res.stdout.splitlines()
     for path, name in shown.items():
@@ -250,9 +265,11 @@ def run_surface_tool(role, cmd, shown, log):
     log += ["surface %s: %s" % (role, ln) for ln in lines]
     if res.returncode != 0:
         last = lines[-1] if lines else "tkr-surface exited with %d" % res.returncode
-        raise SystemExit("error: the surface of the %s could not be made valid (%s); try another "
-                         "--surface-size or --contact-size, or repair it in a CAD tool"
-                         % (role, last.replace("error: ", "")))
+        raise SystemExit(
+            "error: the surface of the %s could not be made valid (%s); try another "
+            "--surface-size or --contact-size, or repair it in a CAD tool"
+            % (role, last.replace("error: ", ""))
+        )
 
 
 def prepare_surfaces(args, tmpdir, log):
@@ -267,6 +284,7 @@ def prepare_surfaces(args, tmpdir, log):
     triangle, repaired triangles, their patches, SmoothSurface)}."""
     import surface_tags
     from scipy.spatial import cKDTree
+
     paths = {"femur": args.femur, "tibia": args.insert}
     clean, final, smooth = {}, {}, {}
     for role, p in paths.items():
@@ -276,20 +294,44 @@ def prepare_surfaces(args, tmpdir, log):
         edge = np.median(np.linalg.norm(given - np.roll(given, 1, axis=1), axis=2))
         smooth[role] = surface_tags.SmoothSurface(given, max(args.smooth_radius, 2.5 * edge))
         clean[role] = os.path.join(tmpdir, "%s-clean.stl" % role)
-        run_surface_tool(role, [raw, clean[role], "--size", str(args.surface_size), "--feature-angle",
-                                      str(args.feature_angle), "--wrap-alpha", str(0.5 * args.surface_size)],
-                         {raw: p}, log)
+        run_surface_tool(
+            role,
+            [
+                raw,
+                clean[role],
+                "--size",
+                str(args.surface_size),
+                "--feature-angle",
+                str(args.feature_angle),
+                "--wrap-alpha",
+                str(0.5 * args.surface_size),
+            ],
+            {raw: p},
+            log,
+        )
     tris = {role: read_stl(clean[role]) for role in paths}
-    patches = [None if q is None else read_stl_in_frame(q, args.units, args.rotation)
-               for q in (args.femur_contact_stl, args.insert_contact_stl)]
+    patches = [
+        None if q is None else read_stl_in_frame(q, args.units, args.rotation)
+        for q in (args.femur_contact_stl, args.insert_contact_stl)
+    ]
     try:
-        labels = dict(zip(("femur", "tibia"), surface_tags.tag_pair(
-            tris["femur"], tris["tibia"], args.contact_distance, *patches,
-            patch_tol=max(0.5, args.surface_size))[:2]))
+        labels = dict(
+            zip(
+                ("femur", "tibia"),
+                surface_tags.tag_pair(
+                    tris["femur"],
+                    tris["tibia"],
+                    args.contact_distance,
+                    *patches,
+                    patch_tol=max(0.5, args.surface_size)
+                )[:2],
+            )
+        )
     except ValueError as e:
-        raise SystemExit("error: tagging the surfaces: %s; check the frame (--rotation, femur resting on the "
-                         "insert), widen --contact-distance, or give --femur-contact-stl/--insert-contact-stl"
-                         % e)
+        raise SystemExit(
+            "error: tagging the surfaces: %s; check the frame (--rotation, femur resting on the "
+            "insert), widen --contact-distance, or give --femur-contact-stl/--insert-contact-stl" % e
+        )
     args.tagged = {}
     for role in paths:
         contact = os.path.join(tmpdir, "%s-contact.stl" % role)
@@ -311,39 +353,66 @@ def prepare_surfaces(args, tmpdir, log):
                 sizes.append((args.contact_size, args.contact_size))
             sizes += [(f * sizes[-1][0], f * sizes[-1][1]) for f in (0.75, 0.5625)]
         for attempt, (size, csize) in enumerate(sizes):
-            run_surface_tool(role, [clean[role], final[role], "--size", "%g" % size,
-                                    "--contact-size", "%g" % csize, "--near", contact,
-                                    "--near-distance", str(0.5 * args.surface_size),
-                                    "--feature-angle", str(args.feature_angle),
-                                    "--wrap-alpha", str(0.5 * args.surface_size)],
-                             {clean[role]: "the repaired surface", contact: "its contact triangles"}, log)
+            run_surface_tool(
+                role,
+                [
+                    clean[role],
+                    final[role],
+                    "--size",
+                    "%g" % size,
+                    "--contact-size",
+                    "%g" % csize,
+                    "--near",
+                    contact,
+                    "--near-distance",
+                    str(0.5 * args.surface_size),
+                    "--feature-angle",
+                    str(args.feature_angle),
+                    "--wrap-alpha",
+                    str(0.5 * args.surface_size),
+                ],
+                {clean[role]: "the repaired surface", contact: "its contact triangles"},
+                log,
+            )
             T = read_stl(final[role])
-            fault = (surface_tags.unfaithful(T, tris[role], 0.5 * args.layer_thickness,
-                                             layer=tris[role][labels[role] == surface_tags.CONTACT],
-                                             reach=2.0 * size)
-                     if layered else None)
+            fault = (
+                surface_tags.unfaithful(
+                    T,
+                    tris[role],
+                    0.5 * args.layer_thickness,
+                    layer=tris[role][labels[role] == surface_tags.CONTACT],
+                    reach=2.0 * size,
+                )
+                if layered
+                else None
+            )
             if fault is None:
                 break
             line = "surface %s: the remeshed surface %s" % (role, fault)
             if attempt + 1 < len(sizes):
-                line += "; remeshing with edges of %g mm (%g mm on the contact triangles)" % sizes[attempt + 1]
+                line += (
+                    "; remeshing with edges of %g mm (%g mm on the contact triangles)" % sizes[attempt + 1]
+                )
             print(line)
             log.append(line)
         else:
             # a closed, manifold surface always has a faithful remesh: the
             # repaired one itself (--surface-size triangles, more cells)
-            line = ("surface %s: no remesh down to %g mm triangles is faithful (%s); the repaired surface "
-                    "(--surface-size %g mm) is meshed as it is (a larger --layer-thickness or a smaller "
-                    "--contact-size may allow fewer cells)" % (role, sizes[-1][1], fault, args.surface_size))
+            line = (
+                "surface %s: no remesh down to %g mm triangles is faithful (%s); the repaired surface "
+                "(--surface-size %g mm) is meshed as it is (a larger --layer-thickness or a smaller "
+                "--contact-size may allow fewer cells)" % (role, sizes[-1][1], fault, args.surface_size)
+            )
             print(line)
             log.append(line)
             T = tris[role].copy()
             write_stl_binary(final[role], T)
         _, nearest = cKDTree(tris[role].mean(axis=1)).query(T.mean(axis=1))
         a = 0.5 * np.linalg.norm(np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]), axis=1)
-        patch = surface_tags.patches(T, args.patch_angle, 2.0 * args.contact_size ** 2)
-        uniform = surface_tags.group_patches(T, labels[role][nearest], patch, a, args.patch_angle,
-                                             2.0 * args.contact_size ** 2)
+        patch = surface_tags.patches(T, args.patch_angle, 2.0 * args.contact_size**2)
+        uniform = surface_tags.group_patches(
+            T, labels[role][nearest], patch, a, args.patch_angle, 2.0 * args.contact_size**2
+        )
         patch = surface_tags.split_mixed(T, patch, uniform)
         # the articular triangles' corners onto the smooth surface through
         # the given vertices (SmoothSurface)
@@ -357,11 +426,13 @@ def prepare_surfaces(args, tmpdir, log):
             # the input's facets cut the articular curvature by more than
             # the smooth surface may correct (a coarse chordal export: 34 %
             # and 47 % of TKR C's; a few rim nodes elsewhere, 6 % at most)
-            line = ("warning: %d of the %d articular nodes of the %s lie more than %g mm off the smooth "
-                    "surface through the input's vertices and stay on its facets: the input is too coarse "
-                    "for contact pressures (expect them off by tens of per cent); export the STL with a "
-                    "finer chordal tolerance (a few micrometres)"
-                    % (skipped, len(on), role, smooth[role].max_move))
+            line = (
+                "warning: %d of the %d articular nodes of the %s lie more than %g mm off the smooth "
+                "surface through the input's vertices and stay on its facets: the input is too coarse "
+                "for contact pressures (expect them off by tens of per cent); export the STL with a "
+                "finer chordal tolerance (a few micrometres)"
+                % (skipped, len(on), role, smooth[role].max_move)
+            )
             print(line)
             log.append(line)
         T = pts[inv]
@@ -373,8 +444,14 @@ def prepare_surfaces(args, tmpdir, log):
         _, n_fine = surface_tags.normals(tris[role])
         _, n_final = surface_tags.normals(T)
         best = np.argmax(np.einsum("ikj,ij->ik", n_final[cand], n_fine), axis=1)
-        args.tagged[role] = (T, uniform, patch, tris[role], patch[cand[np.arange(len(cand)), best]],
-                             smooth[role])
+        args.tagged[role] = (
+            T,
+            uniform,
+            patch,
+            tris[role],
+            patch[cand[np.arange(len(cand)), best]],
+            smooth[role],
+        )
         line = "%s: %d smooth patches (--patch-angle %g deg)" % (role, patch.max() + 1, args.patch_angle)
         for code, name in [(surface_tags.UNTAGGED, "untagged")] + sorted(surface_tags.NAMES[role].items()):
             m = uniform == code
@@ -390,6 +467,7 @@ def load_tagged(tris, labels, patch, role):
     meet, and the volume they bound.  Returns (volume, {surface: group name
     or None}, {patch: surface})."""
     import surface_tags
+
     pts, T, E, ta, tb = surface_tags.shared_edges(tris)
     pa, pb = patch[ta], patch[tb]
     border = pa != pb
@@ -405,6 +483,7 @@ def load_tagged(tris, labels, patch, role):
         nodes = nodes[~owner[nodes]]
         owner[nodes] = True
         return nodes
+
     point_of = {}
     for v in np.unique(edges):
         if len(around[v]) >= 3:
@@ -492,8 +571,12 @@ def face_table(vol):
             away += np.dot(n, d) / (np.linalg.norm(d) + 1e-12)
         if area == 0:
             continue
-        rows[s] = dict(area=area, centroid=cen / area, normal=nrm / np.linalg.norm(nrm) if np.linalg.norm(nrm) > 0 else nrm,
-                       away=away / area)
+        rows[s] = dict(
+            area=area,
+            centroid=cen / area,
+            normal=nrm / np.linalg.norm(nrm) if np.linalg.norm(nrm) > 0 else nrm,
+            away=away / area,
+        )
     return rows, lo, hi
 
 
@@ -537,8 +620,12 @@ def face_table_stl(vol, tris):
                 nrm += nn
                 away += np.dot(nn, d) / (np.linalg.norm(d) + 1e-12)
         if area > 0:
-            rows[s] = dict(area=area, centroid=cen / area, normal=nrm / max(np.linalg.norm(nrm), 1e-300),
-                           away=away / area)
+            rows[s] = dict(
+                area=area,
+                centroid=cen / area,
+                normal=nrm / max(np.linalg.norm(nrm), 1e-300),
+                away=away / area,
+            )
     return rows, lo, hi
 
 
@@ -571,8 +658,10 @@ def print_table(role, path, rows, groups):
     print("   face    area mm2        centroid x y z            mean normal        group")
     for s in sorted(rows):
         r = rows[s]
-        print("  %5d %10.1f   %8.2f %8.2f %8.2f   %6.3f %6.3f %6.3f   %s"
-              % (s, r["area"], *r["centroid"], *r["normal"], groups.get(s) or "-"))
+        print(
+            "  %5d %10.1f   %8.2f %8.2f %8.2f   %6.3f %6.3f %6.3f   %s"
+            % (s, r["area"], *r["centroid"], *r["normal"], groups.get(s) or "-")
+        )
 
 
 # ----------------------------------------------------------------- meshing
@@ -600,8 +689,9 @@ class Part:
             self.vol, self.groups, surface_of = load_tagged(T, labels, patch, role)
             self.cad, self.tris = False, T
             self.fine_faces = {s: fine[fine_patch == k] for k, s in surface_of.items()}
-            self.smooth = {s: smooth.project for s, g in self.groups.items()
-                           if g in contact_layer.CONTACT_GROUPS}
+            self.smooth = {
+                s: smooth.project for s, g in self.groups.items() if g in contact_layer.CONTACT_GROUPS
+            }
             self.contact = [s for s, g in self.groups.items() if g in contact_layer.CONTACT_GROUPS]
             return
         shown = path
@@ -618,7 +708,9 @@ class Part:
         # (an STL's discrete surfaces keep their triangles: clearing them
         # would delete the geometry)
         groups = classify(role, rows, lo, hi)
-        names = (("femur_contact", "femur_fixation") if role == "femur" else ("tibia_contact", "tibia_inferior"))
+        names = (
+            ("femur_contact", "femur_fixation") if role == "femur" else ("tibia_contact", "tibia_inferior")
+        )
         for g in names:
             override = getattr(args, g + "_faces")
             if override:
@@ -633,8 +725,10 @@ class Part:
         print_table(role, shown, rows, groups)
         for g in names:
             if not any(v == g for v in groups.values()):
-                raise SystemExit("error: no face of %s was assigned to %s; use --%s-faces"
-                                 % (shown, g, g.replace("_", "-")))
+                raise SystemExit(
+                    "error: no face of %s was assigned to %s; use --%s-faces"
+                    % (shown, g, g.replace("_", "-"))
+                )
         self.groups = groups
         self.contact = [s for s, g in groups.items() if g in contact_layer.CONTACT_GROUPS]
 
@@ -659,8 +753,16 @@ class Part:
                     generate_plain(2, args.sweep_size)
                 fine = None if self.fine_faces is None else np.concatenate(list(self.fine_faces.values()))
                 smooth = next(iter(self.smooth.values()), None)
-                out = insert_sweep.mesh_insert(self.vol, self.groups, args.sweep_size,
-                                               args.sweep_cells, args.sweep_top_cell, self.cad, fine, smooth)
+                out = insert_sweep.mesh_insert(
+                    self.vol,
+                    self.groups,
+                    args.sweep_size,
+                    args.sweep_cells,
+                    args.sweep_top_cell,
+                    self.cad,
+                    fine,
+                    smooth,
+                )
                 self.method = "swept columns"
                 return out
             except insert_sweep.NotSweepable as e:
@@ -672,13 +774,29 @@ class Part:
         # all split into hexahedra (contact_layer.py)
         own = self.articular_points(1.5)
         gmsh.model.setCurrent(self.role)
-        field = contact_layer.SizeField(own, near if args.refine_distance > 0 else None,
-                                        args.contact_size, args.size, args.grading_distance,
-                                        args.refine_distance, contact_layer.width_caps() if self.cad else {})
+        field = contact_layer.SizeField(
+            own,
+            near if args.refine_distance > 0 else None,
+            args.contact_size,
+            args.size,
+            args.grading_distance,
+            args.refine_distance,
+            contact_layer.width_caps() if self.cad else {},
+        )
         self.method = "contact layer"
-        return contact_layer.mesh_body(self.vol, self.groups, field, args.size, args.layers,
-                                       args.layer_thickness, args.layer_ratio, self.cad, self.notes,
-                                       self.fine_faces, self.smooth)
+        return contact_layer.mesh_body(
+            self.vol,
+            self.groups,
+            field,
+            args.size,
+            args.layers,
+            args.layer_thickness,
+            args.layer_ratio,
+            self.cad,
+            self.notes,
+            self.fine_faces,
+            self.smooth,
+        )
 
 
 def mesh_part_robust(part, args, tmpdir, near):
@@ -690,6 +808,7 @@ def mesh_part_robust(part, args, tmpdir, near):
     straight-sided subdivision (reported).  Returns (nodes, hexes,
     surfaces) and the method in words."""
     import copy
+
     notes = []
     again = copy.copy(args)
     for thickness in (0.5 * args.layer_thickness, None):
@@ -700,16 +819,21 @@ def mesh_part_robust(part, args, tmpdir, near):
             if part.cad or part.role not in getattr(args, "tagged", {}) or args.method == "split":
                 raise
             why = gmsh_failure(e).replace("error: gmsh: ", "gmsh: ") if type(e) is Exception else str(e)
-        note = ("note: the contact layer of the %s failed (%s); meshing it again %s"
-                % (part.role, why, "with --layer-thickness %g" % thickness if thickness else
-                   "by --method split (tetrahedra split into hexahedra, straight-sided)"))
+        note = "note: the contact layer of the %s failed (%s); meshing it again %s" % (
+            part.role,
+            why,
+            "with --layer-thickness %g" % thickness
+            if thickness
+            else "by --method split (tetrahedra split into hexahedra, straight-sided)",
+        )
         print(note)
         notes.append(note.replace("note: ", ""))
         part.notes = []
         again.layer_thickness = thickness
     gmsh.model.setCurrent(part.role)
-    return mesh_body(part.role, part.path, args, tmpdir, linear=True, part=part), \
-        "; ".join(["split tetrahedra"] + notes)
+    return mesh_body(part.role, part.path, args, tmpdir, linear=True, part=part), "; ".join(
+        ["split tetrahedra"] + notes
+    )
 
 
 def mesh_body(role, path, args, tmpdir, linear=False, part=None):
@@ -770,13 +894,13 @@ def seat_only(tib, tol=0.05):
     nodes, hexes, surfaces = tib
     q = surfaces.get("tibia_inferior")
     if q is None or not len(q):
-        return tib, 0, 0.
+        return tib, 0, 0.0
     P = nodes[q]
     n = np.cross(P[:, 2] - P[:, 0], P[:, 3] - P[:, 1])
     down = n[:, 2] < -0.9 * np.linalg.norm(n, axis=1)
     low = down & (P[..., 2] <= P[..., 2].min() + tol).all(axis=1)
     if not np.any(low):
-        return tib, 0, 0.
+        return tib, 0, 0.0
     # z = a x + b y + c through the lowest quadrangles' nodes
     X = P[low].reshape(-1, 3)
     a, b, c = np.linalg.lstsq(np.c_[X[:, :2], np.ones(len(X))], X[:, 2], rcond=None)[0]
@@ -791,13 +915,15 @@ def min_vertical_gap(fem, tib):
     tn, _, ts = tib
     fq = facing(fn, fs["femur_contact"], -1)
     tq = facing(tn, ts["tibia_contact"], +1)
-    g1 = blockmesh.vertical_gap(tn[np.unique(tq)], fn, fq)          # z_f - z_t at tibia nodes
-    g2 = -blockmesh.vertical_gap(fn[np.unique(fq)], tn, tq)         # z_f - z_t at femur nodes
+    g1 = blockmesh.vertical_gap(tn[np.unique(tq)], fn, fq)  # z_f - z_t at tibia nodes
+    g2 = -blockmesh.vertical_gap(fn[np.unique(fq)], tn, tq)  # z_f - z_t at femur nodes
     g = np.concatenate([g1, g2])
     g = g[~np.isnan(g)]
     if len(g) == 0:
-        raise SystemExit("error: the articular surfaces do not overlap in the x-y plane; "
-                         "position the parts (--offset) or check the axes")
+        raise SystemExit(
+            "error: the articular surfaces do not overlap in the x-y plane; "
+            "position the parts (--offset) or check the axes"
+        )
     return float(g.min())
 
 
@@ -813,8 +939,10 @@ def parse_rotation(text):
     r = r.reshape(3, 3)
     err = np.abs(r @ r.T - np.eye(3)).max()
     if err > 1e-4 or np.linalg.det(r) < 0:
-        raise SystemExit("error: --rotation is not a rotation (R R^T differs from I by %.2g, det %.4g): "
-                         "give the rows as unit vectors, orthogonal, right-handed" % (err, np.linalg.det(r)))
+        raise SystemExit(
+            "error: --rotation is not a rotation (R R^T differs from I by %.2g, det %.4g): "
+            "give the rows as unit vectors, orthogonal, right-handed" % (err, np.linalg.det(r))
+        )
     return r
 
 
@@ -841,101 +969,179 @@ def check_frame(args):
     flo, fhi = bounding_box("femur", args.femur, args)
     tlo, thi = bounding_box("tibia", args.insert, args)
     ext = thi - tlo
-    hint = ("our axes are x medial-lateral, y anterior-posterior, z axial with the femur above the "
-            "insert: turn the input with --rotation R11,...,R33 (rows: our x, y, z axes in the file's "
-            "frame) or in your CAD tool")
-    print("insert: %.1f x %.1f x %.1f mm (x, y, z); femur z %.1f .. %.1f, insert z %.1f .. %.1f"
-          % (ext[0], ext[1], ext[2], flo[2], fhi[2], tlo[2], thi[2]))
+    hint = (
+        "our axes are x medial-lateral, y anterior-posterior, z axial with the femur above the "
+        "insert: turn the input with --rotation R11,...,R33 (rows: our x, y, z axes in the file's "
+        "frame) or in your CAD tool"
+    )
+    print(
+        "insert: %.1f x %.1f x %.1f mm (x, y, z); femur z %.1f .. %.1f, insert z %.1f .. %.1f"
+        % (ext[0], ext[1], ext[2], flo[2], fhi[2], tlo[2], thi[2])
+    )
     if ext[2] >= min(ext[0], ext[1]):
-        raise SystemExit("error: the insert is %.1f x %.1f x %.1f mm along x, y, z, not thinnest along z "
-                         "(its thickness); %s" % (ext[0], ext[1], ext[2], hint))
+        raise SystemExit(
+            "error: the insert is %.1f x %.1f x %.1f mm along x, y, z, not thinnest along z "
+            "(its thickness); %s" % (ext[0], ext[1], ext[2], hint)
+        )
     if 0.5 * (flo[2] + fhi[2]) <= 0.5 * (tlo[2] + thi[2]):
-        raise SystemExit("error: the femur (z %.1f .. %.1f mm) is not above the insert (z %.1f .. %.1f mm); %s"
-                         % (flo[2], fhi[2], tlo[2], thi[2], hint))
+        raise SystemExit(
+            "error: the femur (z %.1f .. %.1f mm) is not above the insert (z %.1f .. %.1f mm); %s"
+            % (flo[2], fhi[2], tlo[2], thi[2], hint)
+        )
     overlap = np.minimum(fhi[:2], thi[:2]) - np.maximum(flo[:2], tlo[:2])
     if (overlap <= 0.5 * ext[:2]).any():
-        raise SystemExit("error: in plan the femur (x %.1f .. %.1f, y %.1f .. %.1f mm) covers less than half "
-                         "of the insert (x %.1f .. %.1f, y %.1f .. %.1f mm): the articular surfaces do not "
-                         "face each other; %s" % (flo[0], fhi[0], flo[1], fhi[1], tlo[0], thi[0], tlo[1],
-                                                  thi[1], hint))
+        raise SystemExit(
+            "error: in plan the femur (x %.1f .. %.1f, y %.1f .. %.1f mm) covers less than half "
+            "of the insert (x %.1f .. %.1f, y %.1f .. %.1f mm): the articular surfaces do not "
+            "face each other; %s" % (flo[0], fhi[0], flo[1], fhi[1], tlo[0], thi[0], tlo[1], thi[1], hint)
+        )
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="mesh-implant", description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(
+        prog="mesh-implant", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     ap.add_argument("--femur", required=True, help="femoral component (.step/.stp/.iges/.brep/.stl)")
     ap.add_argument("--insert", required=True, help="tibial insert (.step/.stp/.iges/.brep/.stl)")
     ap.add_argument("-o", "--output", required=True, help="output .msh (ASCII 4.1)")
     ap.add_argument("--units", choices=("mm", "m"), default="mm", help="unit of STL coordinates (default mm)")
-    ap.add_argument("--rotation", type=parse_rotation,
-                    help="R11,R12,R13,R21,...,R33: turn both inputs by this rotation, x_ours = R x_file "
-                         "(the rows are our x (medial-lateral), y (anterior-posterior), z (axial, towards "
-                         "the femur) axes written in the file's frame)")
-    ap.add_argument("--method", choices=("auto", "layer", "split"), default="auto",
-                    help="auto (default): swept insert where possible, contact layer otherwise; "
-                         "layer: contact layer on both bodies; split: tetrahedra split into hexahedra")
-    ap.add_argument("--size", type=float, default=8.0,
-                    help="tetrahedron size away from the articular faces, mm (hexahedra are about half)")
-    ap.add_argument("--contact-size", type=float,
-                    help="triangle/tetrahedron size at the articular faces, mm "
-                         "(default 3; 4 with --method split)")
-    ap.add_argument("--grading-distance", type=float, default=10.0,
-                    help="distance over which the size grows from --contact-size to --size, mm")
-    ap.add_argument("--refine-distance", type=float, default=10.0,
-                    help="layer: --contact-size where the articular faces are within this distance "
-                         "(mm) of the other body's articular faces (in the input position), growing "
-                         "to --size beyond; 0: on all articular faces")
+    ap.add_argument(
+        "--rotation",
+        type=parse_rotation,
+        help="R11,R12,R13,R21,...,R33: turn both inputs by this rotation, x_ours = R x_file "
+        "(the rows are our x (medial-lateral), y (anterior-posterior), z (axial, towards "
+        "the femur) axes written in the file's frame)",
+    )
+    ap.add_argument(
+        "--method",
+        choices=("auto", "layer", "split"),
+        default="auto",
+        help="auto (default): swept insert where possible, contact layer otherwise; "
+        "layer: contact layer on both bodies; split: tetrahedra split into hexahedra",
+    )
+    ap.add_argument(
+        "--size",
+        type=float,
+        default=8.0,
+        help="tetrahedron size away from the articular faces, mm (hexahedra are about half)",
+    )
+    ap.add_argument(
+        "--contact-size",
+        type=float,
+        help="triangle/tetrahedron size at the articular faces, mm " "(default 3; 4 with --method split)",
+    )
+    ap.add_argument(
+        "--grading-distance",
+        type=float,
+        default=10.0,
+        help="distance over which the size grows from --contact-size to --size, mm",
+    )
+    ap.add_argument(
+        "--refine-distance",
+        type=float,
+        default=10.0,
+        help="layer: --contact-size where the articular faces are within this distance "
+        "(mm) of the other body's articular faces (in the input position), growing "
+        "to --size beyond; 0: on all articular faces",
+    )
     ap.add_argument("--layers", type=int, default=2, help="layer: number of cell layers")
     ap.add_argument("--layer-thickness", type=float, default=1.5, help="layer: total depth, mm")
-    ap.add_argument("--layer-ratio", type=float, default=1.3,
-                    help="layer: thickness ratio of consecutive layers (thinnest at the surface)")
-    ap.add_argument("--sweep-size", type=float, default=2.0,
-                    help="auto, swept insert: plan size of the cells, mm")
-    ap.add_argument("--sweep-cells", type=int, default=6,
-                    help="auto, swept insert: cells through the insert's thickness")
-    ap.add_argument("--sweep-top-cell", type=float, default=1.0,
-                    help="auto, swept insert: thickness of the cells at the articular surface "
-                         "where the insert is thinnest, mm")
-    ap.add_argument("--surface", choices=("remesh", "as-is"), default="remesh",
-                    help="STL: remesh (default): check, repair and remesh each STL surface with tkr-surface "
-                         "(CGAL) before meshing; as-is: mesh the STL triangles as they are")
-    ap.add_argument("--surface-size", type=float, default=1.0,
-                    help="STL, remesh: edge length of the repaired surface, which is the geometry the mesh "
-                         "follows and is tagged on, mm")
-    ap.add_argument("--contact-distance", type=float, default=3.0,
-                    help="STL, remesh: the contact groups are the triangles that come within this distance "
-                         "(mm) of the other body over the flexion range")
-    ap.add_argument("--smooth-radius", type=float, default=3.0,
-                    help="STL, remesh: radius (mm; at least 2.5 edges of the input) of the smooth surface "
-                         "fitted through the input's vertices that the articular nodes are put on")
-    ap.add_argument("--patch-angle", type=float, default=30.0,
-                    help="STL, remesh: dihedral angle (deg) above which an edge of the remeshed surface "
-                         "separates two patches; a group is given to whole patches")
-    ap.add_argument("--femur-contact-stl", help="STL, remesh: the femur's articular surface as its own STL "
-                                                "(same units and frame), instead of the proximity rule")
+    ap.add_argument(
+        "--layer-ratio",
+        type=float,
+        default=1.3,
+        help="layer: thickness ratio of consecutive layers (thinnest at the surface)",
+    )
+    ap.add_argument(
+        "--sweep-size", type=float, default=2.0, help="auto, swept insert: plan size of the cells, mm"
+    )
+    ap.add_argument(
+        "--sweep-cells", type=int, default=6, help="auto, swept insert: cells through the insert's thickness"
+    )
+    ap.add_argument(
+        "--sweep-top-cell",
+        type=float,
+        default=1.0,
+        help="auto, swept insert: thickness of the cells at the articular surface "
+        "where the insert is thinnest, mm",
+    )
+    ap.add_argument(
+        "--surface",
+        choices=("remesh", "as-is"),
+        default="remesh",
+        help="STL: remesh (default): check, repair and remesh each STL surface with tkr-surface "
+        "(CGAL) before meshing; as-is: mesh the STL triangles as they are",
+    )
+    ap.add_argument(
+        "--surface-size",
+        type=float,
+        default=1.0,
+        help="STL, remesh: edge length of the repaired surface, which is the geometry the mesh "
+        "follows and is tagged on, mm",
+    )
+    ap.add_argument(
+        "--contact-distance",
+        type=float,
+        default=3.0,
+        help="STL, remesh: the contact groups are the triangles that come within this distance "
+        "(mm) of the other body over the flexion range",
+    )
+    ap.add_argument(
+        "--smooth-radius",
+        type=float,
+        default=3.0,
+        help="STL, remesh: radius (mm; at least 2.5 edges of the input) of the smooth surface "
+        "fitted through the input's vertices that the articular nodes are put on",
+    )
+    ap.add_argument(
+        "--patch-angle",
+        type=float,
+        default=30.0,
+        help="STL, remesh: dihedral angle (deg) above which an edge of the remeshed surface "
+        "separates two patches; a group is given to whole patches",
+    )
+    ap.add_argument(
+        "--femur-contact-stl",
+        help="STL, remesh: the femur's articular surface as its own STL "
+        "(same units and frame), instead of the proximity rule",
+    )
     ap.add_argument("--insert-contact-stl", help="STL, remesh: the insert's articular surface as its own STL")
-    ap.add_argument("--feature-angle", type=float, default=40.0,
-                    help="STL: angle (deg) between facets that splits faces")
-    ap.add_argument("--offset", help="DX,DY,DZ: translate the femur by this (mm) instead of "
-                                     "moving it along z to touch the insert")
+    ap.add_argument(
+        "--feature-angle", type=float, default=40.0, help="STL: angle (deg) between facets that splits faces"
+    )
+    ap.add_argument(
+        "--offset",
+        help="DX,DY,DZ: translate the femur by this (mm) instead of " "moving it along z to touch the insert",
+    )
     ap.add_argument("--gap", type=float, default=1e-3, help="initial gap when touching (mm)")
     for g in ("femur_contact", "femur_fixation", "tibia_contact", "tibia_inferior"):
-        ap.add_argument("--" + g.replace("_", "-") + "-faces", dest=g + "_faces",
-                        help="comma-separated face ids (see the table) for %s, replacing the rule" % g)
+        ap.add_argument(
+            "--" + g.replace("_", "-") + "-faces",
+            dest=g + "_faces",
+            help="comma-separated face ids (see the table) for %s, replacing the rule" % g,
+        )
     args = ap.parse_args(argv)
-    stl_remesh = args.surface == "remesh" and all(p.lower().endswith(".stl") for p in (args.femur, args.insert))
-    faces = [g for g in ("femur_contact", "femur_fixation", "tibia_contact", "tibia_inferior")
-             if getattr(args, g + "_faces")]
+    stl_remesh = args.surface == "remesh" and all(
+        p.lower().endswith(".stl") for p in (args.femur, args.insert)
+    )
+    faces = [
+        g
+        for g in ("femur_contact", "femur_fixation", "tibia_contact", "tibia_inferior")
+        if getattr(args, g + "_faces")
+    ]
     if stl_remesh and faces:
-        raise SystemExit("error: --%s-faces names faces of the CAD table; with STL input give the contact "
-                         "patch as --femur-contact-stl/--insert-contact-stl, or mesh the STL as it is with "
-                         "--surface as-is" % faces[0].replace("_", "-"))
+        raise SystemExit(
+            "error: --%s-faces names faces of the CAD table; with STL input give the contact "
+            "patch as --femur-contact-stl/--insert-contact-stl, or mesh the STL as it is with "
+            "--surface as-is" % faces[0].replace("_", "-")
+        )
     for option, path in (("--femur", args.femur), ("--insert", args.insert)):
         if not os.path.isfile(path):
             raise SystemExit("error: %s %s: no such file" % (option, path))
         if os.path.splitext(path)[1].lower() not in CAD_EXTENSIONS + (".stl",):
-            raise SystemExit("error: %s %s: unknown file type (use .step/.stp/.iges/.igs/.brep or .stl)"
-                             % (option, path))
+            raise SystemExit(
+                "error: %s %s: unknown file type (use .step/.stp/.iges/.igs/.brep or .stl)" % (option, path)
+            )
     if args.contact_size is None:
         args.contact_size = 4.0 if args.method == "split" else 3.0
 
@@ -958,19 +1164,34 @@ def main(argv=None):
                 tib, methods["tibia"] = mesh_part_robust(parts[1], args, tmpdir, near[0])
     finally:
         gmsh.finalize()
-    report = ["mesh-implant report (meshes/gen/mesh_implant.py)", "",
-              "femur:  %s" % inputs[0], "insert: %s" % inputs[1],
-              "options: " + " ".join("--%s %s" % (k.replace("_", "-"), v) for k, v in sorted(vars(args).items())
-                                     if v is not None and k not in ("femur", "insert", "output", "tagged")),
-              ""] + surface_log + [""] * bool(surface_log)
+    report = (
+        [
+            "mesh-implant report (meshes/gen/mesh_implant.py)",
+            "",
+            "femur:  %s" % inputs[0],
+            "insert: %s" % inputs[1],
+            "options: "
+            + " ".join(
+                "--%s %s" % (k.replace("_", "-"), v)
+                for k, v in sorted(vars(args).items())
+                if v is not None and k not in ("femur", "insert", "output", "tagged")
+            ),
+            "",
+        ]
+        + surface_log
+        + [""] * bool(surface_log)
+    )
 
     def say(line):
         print(line)
         report.append(line)
+
     tib, off_seat, seat_area = seat_only(tib)
     if off_seat:
-        say("tibia_inferior: the seat only (%.1f mm^2), %d quadrangles of the underside off it (a recess's floor, "
-            "a rounded rim) left traction free" % (seat_area, off_seat))
+        say(
+            "tibia_inferior: the seat only (%.1f mm^2), %d quadrangles of the underside off it (a recess's floor, "
+            "a rounded rim) left traction free" % (seat_area, off_seat)
+        )
     fn = fem[0].copy()
     if args.offset:
         d = np.array([float(t) for t in args.offset.split(",")])
@@ -988,15 +1209,27 @@ def main(argv=None):
     blockmesh.write_msh(args.output, {"femur": fem, "tibia": tib}, "mesh-implant")
     s = blockmesh.summary({"femur": fem, "tibia": tib})
     for b in ("femur", "tibia"):
-        say("%s (%s): %d vertices, %d hexahedra, volume %.1f mm^3, min scaled corner Jacobian %.3f, quads %s"
-            % (b, methods[b], s[b]["vertices"], s[b]["hexahedra"], s[b]["volume"], s[b]["min_quality"],
-               s[b]["quads"]))
+        say(
+            "%s (%s): %d vertices, %d hexahedra, volume %.1f mm^3, min scaled corner Jacobian %.3f, quads %s"
+            % (
+                b,
+                methods[b],
+                s[b]["vertices"],
+                s[b]["hexahedra"],
+                s[b]["volume"],
+                s[b]["min_quality"],
+                s[b]["quads"],
+            )
+        )
     # The quality where the bodies touch: the hexahedra with a face on an
     # articular surface.
     for body in (fem, tib):
         for g, (n, q) in contact_layer.contact_layer_quality(*body).items():
             say("contact layer %s: %d hexahedra, min scaled corner Jacobian %.3f" % (g, n, q))
-    say("wrote %s (%d Q1 displacement DoFs)" % (args.output, 3 * (s["femur"]["vertices"] + s["tibia"]["vertices"])))
+    say(
+        "wrote %s (%d Q1 displacement DoFs)"
+        % (args.output, 3 * (s["femur"]["vertices"] + s["tibia"]["vertices"]))
+    )
     # The flexion axis, which the CAD does not state: estimated from the
     # distal arcs of the condyles, written with the mesh into a parameter file.
     rep = os.path.splitext(args.output)[0] + "-report.txt"
@@ -1031,9 +1264,11 @@ def run(argv=None):
         if type(exc) is Exception:
             raise SystemExit(gmsh_failure(exc))
         if isinstance(exc, RuntimeError) and " --" in str(exc):
-            raise SystemExit("error: %s" % exc)     # the mesher's own refusal, naming the option to change
-        raise SystemExit("error: %s: %s (an internal error of mesh-implant; please report it with the "
-                         "command line)" % (type(exc).__name__, exc))
+            raise SystemExit("error: %s" % exc)  # the mesher's own refusal, naming the option to change
+        raise SystemExit(
+            "error: %s: %s (an internal error of mesh-implant; please report it with the "
+            "command line)" % (type(exc).__name__, exc)
+        )
 
 
 if __name__ == "__main__":

@@ -146,7 +146,10 @@ def round_insert(vol, rim, recess):
     # largest radii first, each set found again by position afterwards
     for radius, edges in ((1.5 * rim, corner), (rim, top), (0.75 * rim, base), (0.5 * rim, floor)):
         vol = fillet_each(vol, edges_at([info[e]["mid"] for e in edges]), radius)
-    print("%d base, %d recess floor, %d top rim, %d corner edges" % (len(base), len(floor), len(top), len(corner)))
+    print(
+        "%d base, %d recess floor, %d top rim, %d corner edges"
+        % (len(base), len(floor), len(top), len(corner))
+    )
     return vol
 
 
@@ -243,7 +246,9 @@ def main(argv=None):
         default=0.0,
         help="femur: radius of its rounded sharp edges, mm (default 0: not rounded)",
     )
-    ap.add_argument("--recess", type=float, default=3.0, help="insert: depth of the locking recess, mm (0: none)")
+    ap.add_argument(
+        "--recess", type=float, default=3.0, help="insert: depth of the locking recess, mm (0: none)"
+    )
     ap.add_argument("--size", type=float, default=0.8, help="mean triangle edge, mm")
     ap.add_argument("--noise", type=float, default=0.005, help="mm")
     ap.add_argument("--attempt", type=int, help=argparse.SUPPRESS)
@@ -257,7 +262,9 @@ def main(argv=None):
 
         for attempt in range(5):
             res = subprocess.run(
-                [sys.executable, os.path.abspath(__file__)] + (argv or sys.argv[1:]) + ["--attempt", str(attempt)]
+                [sys.executable, os.path.abspath(__file__)]
+                + (argv or sys.argv[1:])
+                + ["--attempt", str(attempt)]
             )
             if res.returncode >= 0:
                 return res.returncode
@@ -286,7 +293,9 @@ def main(argv=None):
             len(T),
             "insert" if insert else "femur",
             ROUNDED[0],
-            " (rims x %g: gmsh failed on the others)" % (1.0, 1.5, 0.7, 2.0, 0.0)[a.attempt] if a.attempt else "",
+            " (rims x %g: gmsh failed on the others)" % (1.0, 1.5, 0.7, 2.0, 0.0)[a.attempt]
+            if a.attempt
+            else "",
         )
     )
 

@@ -42,8 +42,14 @@ def subdivide(pts, tri):
     mids = 0.5 * (pts[uniq[:, 0]] + pts[uniq[:, 1]])
     m = len(pts) + inv.reshape(3, -1).T  # midpoints of edges 01, 12, 20
     a, b, c = tri.T
-    new = np.concatenate([np.stack([a, m[:, 0], m[:, 2]], 1), np.stack([m[:, 0], b, m[:, 1]], 1),
-                          np.stack([m[:, 2], m[:, 1], c], 1), np.stack([m[:, 0], m[:, 1], m[:, 2]], 1)])
+    new = np.concatenate(
+        [
+            np.stack([a, m[:, 0], m[:, 2]], 1),
+            np.stack([m[:, 0], b, m[:, 1]], 1),
+            np.stack([m[:, 2], m[:, 1], c], 1),
+            np.stack([m[:, 0], m[:, 1], m[:, 2]], 1),
+        ]
+    )
     return np.concatenate([pts, mids]), new
 
 
@@ -67,6 +73,7 @@ def triangulate_step(path, size=1.5):
     full turn on curved faces (what a scanner sees of the shape: the
     options of tkr.export_cad's STL exports of TKR A and B)."""
     import gmsh
+
     gmsh.initialize(["gmsh", "-v", "0"])
     try:
         gmsh.model.occ.importShapes(path)
@@ -109,8 +116,9 @@ def main(argv=None):
     ap.add_argument("--rotation", type=parse_rotation)
     a = ap.parse_args(argv)
     rng = np.random.default_rng(a.seed)
-    pts, tri = indexed(read_stl(a.input) if not a.input.lower().endswith((".step", ".stp"))
-                       else triangulate_step(a.input))
+    pts, tri = indexed(
+        read_stl(a.input) if not a.input.lower().endswith((".step", ".stp")) else triangulate_step(a.input)
+    )
     for _ in range(a.subdivide):
         pts, tri = subdivide(pts, tri)
     pts = pts + a.noise * rng.standard_normal(pts.shape)
@@ -127,8 +135,10 @@ def main(argv=None):
     if a.units == "m":
         soup = soup / 1000.0
     write_stl_binary(a.output, soup)
-    print("%s: %d triangles; folded vertices at %s" % (a.output, len(soup),
-                                                        ", ".join("(%.2f, %.2f, %.2f)" % tuple(p) for p in moved)))
+    print(
+        "%s: %d triangles; folded vertices at %s"
+        % (a.output, len(soup), ", ".join("(%.2f, %.2f, %.2f)" % tuple(p) for p in moved))
+    )
 
 
 if __name__ == "__main__":

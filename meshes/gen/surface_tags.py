@@ -33,8 +33,10 @@ from scipy.spatial import cKDTree
 import flexion_axis
 
 UNTAGGED, CONTACT, OTHER = 0, 1, 2
-NAMES = {"femur": {CONTACT: "femur_contact", OTHER: "femur_fixation"},
-         "tibia": {CONTACT: "tibia_contact", OTHER: "tibia_inferior"}}
+NAMES = {
+    "femur": {CONTACT: "femur_contact", OTHER: "femur_fixation"},
+    "tibia": {CONTACT: "tibia_contact", OTHER: "tibia_inferior"},
+}
 FLEXION = np.arange(-5.0, 60.1, 5.0)
 
 
@@ -46,8 +48,9 @@ def normals(tris):
 
 def samples(tris):
     """Points on the triangles: corners, edge midpoints and centroids."""
-    return np.concatenate([tris.reshape(-1, 3), 0.5 * (tris + np.roll(tris, 1, axis=1)).reshape(-1, 3),
-                           tris.mean(axis=1)])
+    return np.concatenate(
+        [tris.reshape(-1, 3), 0.5 * (tris + np.roll(tris, 1, axis=1)).reshape(-1, 3), tris.mean(axis=1)]
+    )
 
 
 def turned(P, angle, point):
@@ -160,6 +163,7 @@ def patches(tris, angle, min_area):
     the patch index of each triangle (0, 1, ...)."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
+
     _, T, _, a, b = shared_edges(tris)
     _, n = normals(tris)
     smooth = np.einsum("ij,ij->i", n[a], n[b]) > np.cos(np.radians(angle))
@@ -194,6 +198,7 @@ def unfaithful(T, ref, tolerance, layer=None, reach=0.0):
     nearest its centre (a fold); else what is wrong, and where, in words."""
     from scipy.spatial import cKDTree
     import contact_layer
+
     P = np.unique(np.round(ref.reshape(-1, 3), 9), axis=0)
     if layer is not None and len(layer):
         # only where the contact layer is (the triangles `layer`, within
@@ -205,15 +210,17 @@ def unfaithful(T, ref, tolerance, layer=None, reach=0.0):
         Q = contact_layer.surface_projector({0: T})(2, 0, P)
         d = np.linalg.norm(P - Q, axis=1)
     if len(d) and d.max() > tolerance:
-        return ("strays %.2f mm from the repaired surface at (%.1f, %.1f, %.1f) (more than %g mm)"
-                % ((d.max(),) + tuple(P[np.argmax(d)]) + (tolerance,)))
+        return "strays %.2f mm from the repaired surface at (%.1f, %.1f, %.1f) (more than %g mm)" % (
+            (d.max(),) + tuple(P[np.argmax(d)]) + (tolerance,)
+        )
     c, n = normals(T)
     rc, rn = normals(ref)
     _, i = cKDTree(rc).query(c, k=8)
     turned = np.einsum("ij,ikj->ik", n, rn[i]).max(axis=1) < 0
     if turned.any():
-        return ("has %d triangles turned against the repaired surface, e.g. at (%.1f, %.1f, %.1f)"
-                % ((turned.sum(),) + tuple(c[np.argmax(turned)])))
+        return "has %d triangles turned against the repaired surface, e.g. at (%.1f, %.1f, %.1f)" % (
+            (turned.sum(),) + tuple(c[np.argmax(turned)])
+        )
     return None
 
 
@@ -240,8 +247,9 @@ def by_patch(labels, patch, area, contact_fraction=0.25, mixed=0.8):
     return out
 
 
-def group_patches(tris, labels, patch, area, angle, min_area, levels=2, significant=0.05,
-                  contact_fraction=0.25):
+def group_patches(
+    tris, labels, patch, area, angle, min_area, levels=2, significant=0.05, contact_fraction=0.25
+):
     """Labels made uniform per patch (by_patch()), except on a patch that
     joins the articular surface to the other group's (both with at least
     `significant` of its area and min_area mm2: a scan's rounded rims join
@@ -264,8 +272,17 @@ def group_patches(tris, labels, patch, area, angle, min_area, levels=2, signific
             out[m] = by_patch(labels[m], np.zeros(m.sum(), int), area[m], contact_fraction)
         elif levels > 0:
             sub = patches(tris[m], 0.5 * angle, min_area)
-            out[m] = group_patches(tris[m], labels[m], sub, area[m], 0.5 * angle, min_area, levels - 1,
-                                   significant, contact_fraction)
+            out[m] = group_patches(
+                tris[m],
+                labels[m],
+                sub,
+                area[m],
+                0.5 * angle,
+                min_area,
+                levels - 1,
+                significant,
+                contact_fraction,
+            )
         elif both:
             out[m] = labels[m]
         else:
@@ -278,6 +295,7 @@ def split_mixed(tris, patch, labels):
     triangles across edges whose two triangles share patch and label."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
+
     _, T, _, a, b = shared_edges(tris)
     same = (patch[a] == patch[b]) & (labels[a] == labels[b])
     graph = coo_matrix((np.ones(same.sum()), (a[same], b[same])), shape=(len(T), len(T)))
@@ -317,7 +335,7 @@ class SmoothSurface:
 
     def __init__(self, tris, radius, max_move=0.15):
         self.max_move = max_move
-        self.too_far = 0     # points that stayed because their move exceeded max_move
+        self.too_far = 0  # points that stayed because their move exceeded max_move
         pts, inv = np.unique(np.round(tris.reshape(-1, 3), 9), axis=0, return_inverse=True)
         n = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
         N = np.zeros_like(pts)
@@ -343,8 +361,8 @@ class SmoothSurface:
             D = self.P[idx] - x
             u, v, w = D @ e1, D @ e2, D @ n0
             if np.hypot(u.mean(), v.mean()) > 0.5 * self.radius:
-                continue     # all neighbours to one side (a rim): no extrapolation
-            wt = np.sqrt(np.exp(-(u * u + v * v) / self.radius ** 2))
+                continue  # all neighbours to one side (a rim): no extrapolation
+            wt = np.sqrt(np.exp(-(u * u + v * v) / self.radius**2))
             A = np.column_stack([np.ones_like(u), u, v, u * u, u * v, v * v]) * wt[:, None]
             coef, *_ = np.linalg.lstsq(A, w * wt, rcond=None)
             if abs(coef[0]) <= self.max_move:

@@ -46,31 +46,72 @@ DEG = math.pi / 180.0
 VARIANTS = {
     # A: moderately conforming multi-radius design
     "a": dict(
-        width=70.0, depth=47.0, r_corner=14.0, t_min=9.0, plateau=8.0,
-        x_c=22.0, y_dish=-2.0, R_ts=55.0, R_tf=27.0,
-        R_d=44.0, R_p=21.0, R_a=25.0, th_fa=-75.0, th_0=-20.0, th_1=25.0,
-        th_2=110.0, th_notch=-55.0, L_flange=20.0,
-        R_f=25.0, w_condyle=11.5, r_edge=4.0, alpha_edge=40.0, t_fem=8.0,
-        gap=1e-3),
+        width=70.0,
+        depth=47.0,
+        r_corner=14.0,
+        t_min=9.0,
+        plateau=8.0,
+        x_c=22.0,
+        y_dish=-2.0,
+        R_ts=55.0,
+        R_tf=27.0,
+        R_d=44.0,
+        R_p=21.0,
+        R_a=25.0,
+        th_fa=-75.0,
+        th_0=-20.0,
+        th_1=25.0,
+        th_2=110.0,
+        th_notch=-55.0,
+        L_flange=20.0,
+        R_f=25.0,
+        w_condyle=11.5,
+        r_edge=4.0,
+        alpha_edge=40.0,
+        t_fem=8.0,
+        gap=1e-3,
+    ),
     # B: flatter, less conforming insert; single-radius-like femur
     "b": dict(
-        width=72.0, depth=48.0, r_corner=10.0, t_min=8.0, plateau=6.0,
-        x_c=21.0, y_dish=-1.0, R_ts=100.0, R_tf=40.0,
-        R_d=36.0, R_p=24.0, R_a=22.0, th_fa=-75.0, th_0=-15.0, th_1=10.0,
-        th_2=115.0, th_notch=-55.0, L_flange=20.0,
-        R_f=22.0, w_condyle=10.5, r_edge=4.0, alpha_edge=40.0, t_fem=7.8,
-        gap=1e-3),
+        width=72.0,
+        depth=48.0,
+        r_corner=10.0,
+        t_min=8.0,
+        plateau=6.0,
+        x_c=21.0,
+        y_dish=-1.0,
+        R_ts=100.0,
+        R_tf=40.0,
+        R_d=36.0,
+        R_p=24.0,
+        R_a=22.0,
+        th_fa=-75.0,
+        th_0=-15.0,
+        th_1=10.0,
+        th_2=115.0,
+        th_notch=-55.0,
+        L_flange=20.0,
+        R_f=22.0,
+        w_condyle=10.5,
+        r_edge=4.0,
+        alpha_edge=40.0,
+        t_fem=7.8,
+        gap=1e-3,
+    ),
 }
 
 # Mesh resolutions.  h_*: target in-plane cell sizes (mm) in the contact zone
 # and away from it; nz / nk: cell layers through tibia / femur thickness.
 RESOLUTIONS = {
-    "coarse": dict(ht=3.2, ht_far=5.0, nz=4, hz_top=1.6,
-                   hf_x=2.6, hf_x_far=4.0, hf_s=2.8, hf_s_far=6.0, nk=2),
-    "medium": dict(ht=1.35, ht_far=3.0, nz=8, hz_top=0.6,
-                   hf_x=1.3, hf_x_far=2.5, hf_s=1.3, hf_s_far=4.0, nk=3),
-    "fine": dict(ht=0.85, ht_far=2.0, nz=11, hz_top=0.35,
-                 hf_x=0.9, hf_x_far=1.8, hf_s=0.9, hf_s_far=3.0, nk=4),
+    "coarse": dict(
+        ht=3.2, ht_far=5.0, nz=4, hz_top=1.6, hf_x=2.6, hf_x_far=4.0, hf_s=2.8, hf_s_far=6.0, nk=2
+    ),
+    "medium": dict(
+        ht=1.35, ht_far=3.0, nz=8, hz_top=0.6, hf_x=1.3, hf_x_far=2.5, hf_s=1.3, hf_s_far=4.0, nk=3
+    ),
+    "fine": dict(
+        ht=0.85, ht_far=2.0, nz=11, hz_top=0.35, hf_x=0.9, hf_x_far=1.8, hf_s=0.9, hf_s_far=3.0, nk=4
+    ),
 }
 
 
@@ -132,8 +173,11 @@ class Geometry:
         """Frontal inset of the outer surface (>= 0) as a function of x."""
         x = np.asarray(x, float)
         u = np.abs(np.abs(x) - self.x_c)
-        out = np.where(u <= self.u1, self.R_f - np.sqrt(np.maximum(self.R_f ** 2 - u ** 2, 0)),
-                       self.fil_eta - np.sqrt(np.maximum(self.r_edge ** 2 - (u - self.fil_u) ** 2, 0)))
+        out = np.where(
+            u <= self.u1,
+            self.R_f - np.sqrt(np.maximum(self.R_f**2 - u**2, 0)),
+            self.fil_eta - np.sqrt(np.maximum(self.r_edge**2 - (u - self.fil_u) ** 2, 0)),
+        )
         return np.where(np.abs(x) < self.x_in, self.delta_edge, out)
 
     def curve(self, s):
@@ -150,9 +194,11 @@ class Geometry:
         tdown = -np.array([math.cos(th_fa), -math.sin(th_fa)])
         Q[m] = self.F_top + s[m, None] * tdown
         n[m] = nfa
-        for (lo, hi, C, R, th_lo) in ((S1, S2, self.C_a, self.R_a, th_fa),
-                                       (S2, S3, self.C_d, self.R_d, th_0),
-                                       (S3, S4 + 1e-9, self.C_p, self.R_p, th_1)):
+        for lo, hi, C, R, th_lo in (
+            (S1, S2, self.C_a, self.R_a, th_fa),
+            (S2, S3, self.C_d, self.R_d, th_0),
+            (S3, S4 + 1e-9, self.C_p, self.R_p, th_1),
+        ):
             m = (s >= lo) & (s < hi) if hi < S4 else (s >= lo)
             theta = th_lo + (s[m] - lo) / R
             ee = np.stack([-np.sin(theta), -np.cos(theta)], axis=-1)
@@ -196,19 +242,19 @@ class Geometry:
         V = 0.0
         xc, u1, w = self.x_c, self.u1, self.w_condyle
         pieces_condyle = [(xc - w, xc - u1), (xc - u1, xc), (xc, xc + u1), (xc + u1, xc + w)]
-        for (lo, hi, k) in kap:
+        for lo, hi, k in kap:
             L = hi - lo
-            f = lambda xs: L * (t - self.delta(xs)) - k * L * (t ** 2 - self.delta(xs) ** 2) / 2
+            f = lambda xs: L * (t - self.delta(xs)) - k * L * (t**2 - self.delta(xs) ** 2) / 2
             for a, b in pieces_condyle:
                 V += 2 * int_x(a, b, f)
         # bridge, s in [0, s_notch]
-        for (lo, hi, k) in kap:
+        for lo, hi, k in kap:
             lo2, hi2 = lo, min(hi, self.s_notch)
             if hi2 <= lo2:
                 continue
             L = hi2 - lo2
             d = self.delta_edge
-            V += 2 * self.x_in * (L * (t - d) - k * L * (t ** 2 - d ** 2) / 2)
+            V += 2 * self.x_in * (L * (t - d) - k * L * (t**2 - d**2) / 2)
         return V
 
     # ---------------------------------------------------------------- tibia
@@ -217,9 +263,9 @@ class Geometry:
         u = np.asarray(x, float) - side * self.x_c
         v = np.asarray(y, float) - self.y_dish
         inside = np.abs(u) <= self.R_tf
-        rho = (self.R_ts - self.R_tf) + np.sqrt(np.maximum(self.R_tf ** 2 - u ** 2, 0))
+        rho = (self.R_ts - self.R_tf) + np.sqrt(np.maximum(self.R_tf**2 - u**2, 0))
         inside &= np.abs(v) < rho
-        z = self.z_axis - np.sqrt(np.maximum(rho ** 2 - v ** 2, 0))
+        z = self.z_axis - np.sqrt(np.maximum(rho**2 - v**2, 0))
         return np.where(inside, z, np.inf)
 
     def tibia_top(self, x, y):
@@ -308,8 +354,12 @@ def tibia_body(g, r):
     P = np.stack(np.meshgrid(x, y, indexing="ij"), axis=-1)
     body.add(column(P), faces)
     # ring blocks: (t, along) plan arrays
-    for edge in (np.stack([np.full_like(y, a), y], -1), np.stack([np.full_like(y, -a), y], -1),
-                 np.stack([x, np.full_like(x, b)], -1), np.stack([x, np.full_like(x, -b)], -1)):
+    for edge in (
+        np.stack([np.full_like(y, a), y], -1),
+        np.stack([np.full_like(y, -a), y], -1),
+        np.stack([x, np.full_like(x, b)], -1),
+        np.stack([x, np.full_like(x, -b)], -1),
+    ):
         out = g.outline_ray(edge)
         P = edge[None] + s_ring[:, None, None] * (out - edge)[None]
         body.add(column(P), faces)
@@ -328,6 +378,7 @@ def femur_body(g, r):
     def ssz(s):
         d = max(0.0, s_lo - s, s - s_hi)
         return min(r["hf_s_far"], r["hf_s"] + 0.25 * d)
+
     S = g.S
     # a node at theta = 0 (the initial contact point)
     brk = sorted(set([S[0], S[1], g.s_notch, S[2], g.s_of_theta(0.0), S[3], S[4]]))
@@ -343,7 +394,7 @@ def femur_body(g, r):
     cond = {"kmin": "femur_contact", "kmax": "femur_fixation"}
     body.add(block(xl, s), cond)
     body.add(block(xr, s), cond)
-    body.add(block(xm, s[:jn + 1]), {"kmax": "femur_fixation"})
+    body.add(block(xm, s[: jn + 1]), {"kmax": "femur_fixation"})
     return body
 
 
@@ -365,6 +416,7 @@ def _occ_profile_wire(g, s0, with_bridge, side=None):
     """Closed wire of the frontal section at arc length s0 (OCC point/curve
     tags).  side=+1/-1: one condyle only; with_bridge: full width."""
     import gmsh
+
     occ = gmsh.model.occ
     Q, n, _ = g.curve(np.array([s0]))
     Q, n = Q[0], n[0]
@@ -383,9 +435,11 @@ def _occ_profile_wire(g, s0, with_bridge, side=None):
         # outer profile of one condyle from its inner edge to its outer edge
         # (in the direction of increasing sign*x)
         cx = sign * xc
-        segs = [(cx - sign * w, cx - sign * u1, (cx - sign * g.fil_u, g.fil_eta)),
-                (cx - sign * u1, cx + sign * u1, (cx, Rf)),
-                (cx + sign * u1, cx + sign * w, (cx + sign * g.fil_u, g.fil_eta))]
+        segs = [
+            (cx - sign * w, cx - sign * u1, (cx - sign * g.fil_u, g.fil_eta)),
+            (cx - sign * u1, cx + sign * u1, (cx, Rf)),
+            (cx + sign * u1, cx + sign * w, (cx + sign * g.fil_u, g.fil_eta)),
+        ]
         return segs
 
     t = g.t_fem
@@ -418,7 +472,7 @@ def _occ_profile_wire(g, s0, with_bridge, side=None):
             segs = list(reversed([(b, a, c) for (a, b, c) in segs]))
         prev_end = None
         first = None
-        for (a, b, c) in segs:
+        for a, b, c in segs:
             pa, pc, pb = arc_pts(a, b, c)
             if prev_end is not None:
                 occ.remove([(0, pa)])
@@ -441,6 +495,7 @@ def _occ_profile_wire(g, s0, with_bridge, side=None):
 def _occ_sweep(g, surf, s0, s1):
     """Sweep a section surface from s0 to s1 (within one segment)."""
     import gmsh
+
     occ = gmsh.model.occ
     S = g.S
     if s1 <= S[1] + 1e-12:
@@ -463,13 +518,14 @@ def _occ_sweep(g, surf, s0, s1):
 def build_occ(g, which=("femur", "tibia")):
     """Build the CAD solids in the current gmsh model; return {name: [tags]}."""
     import gmsh
+
     occ = gmsh.model.occ
     res = {}
     if "femur" in which:
         S = g.S
         segs = [(S[0], S[1]), (S[1], g.s_notch), (g.s_notch, S[2]), (S[2], S[3]), (S[3], S[4])]
         vols = []
-        for (s0, s1) in segs:
+        for s0, s1 in segs:
             if s1 <= g.s_notch + 1e-12:
                 surf = _occ_profile_wire(g, s0, True)
                 vols += _occ_sweep(g, surf, s0, s1)
@@ -488,7 +544,7 @@ def build_occ(g, which=("femur", "tibia")):
         tori = []
         for side in (-1, +1):
             t = occ.addTorus(0, 0, 0, g.R_ts - g.R_tf, g.R_tf)
-            occ.rotate([(3, t)], 0, 0, 0, 0, 1, 0, math.pi / 2)   # axis z -> x
+            occ.rotate([(3, t)], 0, 0, 0, 0, 1, 0, math.pi / 2)  # axis z -> x
             occ.translate([(3, t)], side * g.x_c, g.y_dish, g.z_axis)
             tori.append((3, t))
         cut, _ = occ.cut(prism, tori)
@@ -505,6 +561,7 @@ def cad_volumes(variant):
     if variant in _VOL_CACHE:
         return _VOL_CACHE[variant]
     import gmsh
+
     g = Geometry(variant)
     gmsh.initialize(["gmsh", "-v", "0"])
     try:
@@ -525,6 +582,7 @@ def export_cad(variant, outdir, stl_size=1.5):
     import os
 
     import gmsh
+
     g = Geometry(variant)
     files = []
     for name, fname in (("femur", "femur"), ("tibia", "insert")):
@@ -568,14 +626,23 @@ def clearance_report(variant, flexions=(0, 10, 20, 30, 40, 50, 60), step=0.25):
             gs = np.where(X * side > 0, gap, np.inf)
             j = np.unravel_index(np.argmin(gs), gs.shape)
             far &= np.hypot(X - X[j], Y - Y[j]) > 12.0
-            lines.append("flexion %4.0f deg: condyle %+d touches at x %+6.2f y %+6.2f (dish bottom y %+.1f)"
-                         % (phi, side, X[j], Y[j], g.y_dish))
+            lines.append(
+                "flexion %4.0f deg: condyle %+d touches at x %+6.2f y %+6.2f (dish bottom y %+.1f)"
+                % (phi, side, X[j], Y[j], g.y_dish)
+            )
         notch = np.abs(X) < g.x_in + 0.01
         plateau = Ht >= g.H - 1e-9
-        lines.append("flexion %4.0f deg: gap at touch %.4f mm; min clearance >12 mm from the touch points "
-                     "%.2f mm; over plateau/eminence %.2f mm; under the notch %.2f mm"
-                     % (phi, gmin, np.min(np.where(far, gap, np.inf)),
-                        np.min(np.where(plateau, gap, np.inf)), np.min(np.where(notch, gap, np.inf))))
+        lines.append(
+            "flexion %4.0f deg: gap at touch %.4f mm; min clearance >12 mm from the touch points "
+            "%.2f mm; over plateau/eminence %.2f mm; under the notch %.2f mm"
+            % (
+                phi,
+                gmin,
+                np.min(np.where(far, gap, np.inf)),
+                np.min(np.where(plateau, gap, np.inf)),
+                np.min(np.where(notch, gap, np.inf)),
+            )
+        )
     return lines
 
 
@@ -585,45 +652,65 @@ def geometry_report(variant, meshes=()):
     the given mesh files (bodies dicts)."""
     g = Geometry(variant)
     vols = cad_volumes(variant)
-    L = ["TKR variant %s: parametric geometry report (generated by meshes/gen/tkr.py; mm)" % variant.upper(), ""]
+    L = [
+        "TKR variant %s: parametric geometry report (generated by meshes/gen/tkr.py; mm)" % variant.upper(),
+        "",
+    ]
     L.append("parameters:")
     for k, v in VARIANTS[variant].items():
         L.append("  %-12s %g" % (k, v))
-    fem = g.femur_point(np.linspace(-g.x_out, g.x_out, 5)[:, None],
-                        np.linspace(0, g.S[4], 2000)[None, :], 0.0).reshape(-1, 3)
-    L += ["", "derived:",
-          "  insert: width %.1f (x), depth %.1f (y), height %.1f (plateau top z = %.1f), "
-          "minimum thickness %.1f at the dish bottoms (+-%.1f, %.1f, %.1f)"
-          % (2 * g.A, 2 * g.B, g.H, g.H, g.t_min, g.x_c, g.y_dish, g.t_min),
-          "  insert conformity: sagittal R_d/R_ts = %.2f (posterior arc R_p/R_ts = %.2f), frontal R_f/R_tf = %.2f"
-          % (g.R_d / g.R_ts, g.R_p / g.R_ts, g.R_f / g.R_tf),
-          "  femoral component: width %.1f, AP extent %.1f (y %.1f..%.1f), height %.1f (z %.1f..%.1f), "
-          "condyle width %.1f, notch width %.1f, condyle spacing %.1f"
-          % (2 * g.x_out, fem[:, 1].max() - fem[:, 1].min(), fem[:, 1].min(), fem[:, 1].max(),
-             fem[:, 2].max() - fem[:, 2].min(), fem[:, 2].min(), fem[:, 2].max(),
-             2 * g.w_condyle, 2 * g.x_in, 2 * g.x_c),
-          "  femoral shell thickness: %.2f at the condyle apex, %.2f at the condyle edges and on the bridge"
-          % (g.t_fem, g.t_fem - g.delta_edge),
-          "  J-curve: flange top (y, z) = (%.2f, %.2f); anterior arc R_a centre (%.2f, %.2f); "
-          "distal arc R_d centre (%.2f, %.2f); posterior arc R_p centre (%.2f, %.2f)"
-          % (g.F_top[0], g.F_top[1], g.C_a[0], g.C_a[1], g.C_d[0], g.C_d[1], g.C_p[0], g.C_p[1]),
-          "  candidate flexion axes (parallel to x): through (0, %.3f, %.3f) (distal-arc centre) or "
-          "(0, %.3f, %.3f) (posterior-arc centre)" % (g.C_d[0], g.C_d[1], g.C_p[0], g.C_p[1]),
-          "  initial position (0 deg flexion): lowest condyle points (+-%.1f, %.1f, %.4f), "
-          "i.e. gap %.4g mm above the dish bottoms" % (g.x_c, g.y_dish, g.t_min + g.gap, g.gap),
-          "  CAD volumes (OpenCASCADE): femur %.3f mm^3, insert %.3f mm^3 (insert mass %.1f g at 0.935 mg/mm^3)"
-          % (vols["femur"], vols["tibia"], vols["tibia"] * 0.935e-3),
-          "", "exact-geometry contact check (femur rotated about the distal-arc centre, then lowered to touch):"]
+    fem = g.femur_point(
+        np.linspace(-g.x_out, g.x_out, 5)[:, None], np.linspace(0, g.S[4], 2000)[None, :], 0.0
+    ).reshape(-1, 3)
+    L += [
+        "",
+        "derived:",
+        "  insert: width %.1f (x), depth %.1f (y), height %.1f (plateau top z = %.1f), "
+        "minimum thickness %.1f at the dish bottoms (+-%.1f, %.1f, %.1f)"
+        % (2 * g.A, 2 * g.B, g.H, g.H, g.t_min, g.x_c, g.y_dish, g.t_min),
+        "  insert conformity: sagittal R_d/R_ts = %.2f (posterior arc R_p/R_ts = %.2f), frontal R_f/R_tf = %.2f"
+        % (g.R_d / g.R_ts, g.R_p / g.R_ts, g.R_f / g.R_tf),
+        "  femoral component: width %.1f, AP extent %.1f (y %.1f..%.1f), height %.1f (z %.1f..%.1f), "
+        "condyle width %.1f, notch width %.1f, condyle spacing %.1f"
+        % (
+            2 * g.x_out,
+            fem[:, 1].max() - fem[:, 1].min(),
+            fem[:, 1].min(),
+            fem[:, 1].max(),
+            fem[:, 2].max() - fem[:, 2].min(),
+            fem[:, 2].min(),
+            fem[:, 2].max(),
+            2 * g.w_condyle,
+            2 * g.x_in,
+            2 * g.x_c,
+        ),
+        "  femoral shell thickness: %.2f at the condyle apex, %.2f at the condyle edges and on the bridge"
+        % (g.t_fem, g.t_fem - g.delta_edge),
+        "  J-curve: flange top (y, z) = (%.2f, %.2f); anterior arc R_a centre (%.2f, %.2f); "
+        "distal arc R_d centre (%.2f, %.2f); posterior arc R_p centre (%.2f, %.2f)"
+        % (g.F_top[0], g.F_top[1], g.C_a[0], g.C_a[1], g.C_d[0], g.C_d[1], g.C_p[0], g.C_p[1]),
+        "  candidate flexion axes (parallel to x): through (0, %.3f, %.3f) (distal-arc centre) or "
+        "(0, %.3f, %.3f) (posterior-arc centre)" % (g.C_d[0], g.C_d[1], g.C_p[0], g.C_p[1]),
+        "  initial position (0 deg flexion): lowest condyle points (+-%.1f, %.1f, %.4f), "
+        "i.e. gap %.4g mm above the dish bottoms" % (g.x_c, g.y_dish, g.t_min + g.gap, g.gap),
+        "  CAD volumes (OpenCASCADE): femur %.3f mm^3, insert %.3f mm^3 (insert mass %.1f g at 0.935 mg/mm^3)"
+        % (vols["femur"], vols["tibia"], vols["tibia"] * 0.935e-3),
+        "",
+        "exact-geometry contact check (femur rotated about the distal-arc centre, then lowered to touch):",
+    ]
     L += ["  " + s for s in clearance_report(variant)]
     if meshes:
         import blockmesh
+
         L += ["", "discrete initial gap (vertical distance between the meshed articular surfaces):"]
         for name, b in meshes:
             fn, _, fs = b["femur"]
             tn, _, ts = b["tibia"]
             g1 = blockmesh.vertical_gap(tn[np.unique(ts["tibia_contact"])], fn, fs["femur_contact"])
             g2 = -blockmesh.vertical_gap(fn[np.unique(fs["femur_contact"])], tn, ts["tibia_contact"])
-            L.append("  %-20s min over tibia_contact nodes %+.4f, over femur_contact nodes %+.4f "
-                     "(negative = femur node below the faceted insert surface)"
-                     % (name, np.nanmin(g1), np.nanmin(g2)))
+            L.append(
+                "  %-20s min over tibia_contact nodes %+.4f, over femur_contact nodes %+.4f "
+                "(negative = femur node below the faceted insert surface)"
+                % (name, np.nanmin(g1), np.nanmin(g2))
+            )
     return "\n".join(L) + "\n"

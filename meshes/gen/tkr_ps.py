@@ -37,15 +37,44 @@ DEG = math.pi / 180.0
 
 # the shell and the dishes (same keys as tkr.VARIANTS)
 VARIANT = dict(
-    width=72.0, depth=48.0, r_corner=12.0, t_min=8.0, plateau=5.0,
-    x_c=21.0, y_dish=-1.0, R_ts=80.0, R_tf=36.0,
-    R_d=40.0, R_p=20.0, R_a=24.0, th_fa=-75.0, th_0=-20.0, th_1=20.0,
-    th_2=110.0, th_notch=-55.0, L_flange=20.0,
-    R_f=24.0, w_condyle=11.0, r_edge=4.0, alpha_edge=40.0, t_fem=8.0,
-    gap=1e-3)
+    width=72.0,
+    depth=48.0,
+    r_corner=12.0,
+    t_min=8.0,
+    plateau=5.0,
+    x_c=21.0,
+    y_dish=-1.0,
+    R_ts=80.0,
+    R_tf=36.0,
+    R_d=40.0,
+    R_p=20.0,
+    R_a=24.0,
+    th_fa=-75.0,
+    th_0=-20.0,
+    th_1=20.0,
+    th_2=110.0,
+    th_notch=-55.0,
+    L_flange=20.0,
+    R_f=24.0,
+    w_condyle=11.0,
+    r_edge=4.0,
+    alpha_edge=40.0,
+    t_fem=8.0,
+    gap=1e-3,
+)
 # the posterior stabilisation
-PS = dict(post_half_width=7.0, post_back=7.0, post_front=17.0, post_front_top=14.0,
-          post_chamfer=21.0, post_top=27.0, post_base=9.0, cam_theta=105.0, cam_eta=4.5, cam_radius=3.0)
+PS = dict(
+    post_half_width=7.0,
+    post_back=7.0,
+    post_front=17.0,
+    post_front_top=14.0,
+    post_chamfer=21.0,
+    post_top=27.0,
+    post_base=9.0,
+    cam_theta=105.0,
+    cam_eta=4.5,
+    cam_radius=3.0,
+)
 
 
 class Geometry(tkr.Geometry):
@@ -58,16 +87,22 @@ class Geometry(tkr.Geometry):
         self.ps = dict(PS)
         s = self.s_of_theta(self.cam_theta)
         Q, n, _ = self.curve(np.array([s]))
-        self.cam_centre = Q[0] - self.cam_eta * n[0]          # (y, z) at 0 deg
-        assert self.cam_eta + self.cam_radius < self.t_fem   # inside the component
+        self.cam_centre = Q[0] - self.cam_eta * n[0]  # (y, z) at 0 deg
+        assert self.cam_eta + self.cam_radius < self.t_fem  # inside the component
         assert self.post_half_width < self.x_in
 
     # ------------------------------------------------------------ post
     def post_polygon(self):
         """Sagittal section of the post, (y, z), counter-clockwise."""
-        return np.array([[self.post_back, self.post_base], [self.post_front, self.post_base],
-                         [self.post_front, self.post_chamfer], [self.post_front_top, self.post_top],
-                         [self.post_back, self.post_top]])
+        return np.array(
+            [
+                [self.post_back, self.post_base],
+                [self.post_front, self.post_base],
+                [self.post_front, self.post_chamfer],
+                [self.post_front_top, self.post_top],
+                [self.post_back, self.post_top],
+            ]
+        )
 
     def post_distance(self, P):
         """Signed distance of points P (n x 3) from the post solid (negative
@@ -81,7 +116,7 @@ class Geometry(tkr.Geometry):
         for i in range(len(poly)):
             a, b = poly[i], poly[(i + 1) % len(poly)]
             e = b - a
-            nrm = np.array([e[1], -e[0]]) / np.linalg.norm(e)       # outward (ccw polygon)
+            nrm = np.array([e[1], -e[0]]) / np.linalg.norm(e)  # outward (ccw polygon)
             side = (yz - a) @ nrm
             inside &= side <= 0
             t = np.clip(((yz - a) @ e) / (e @ e), 0, 1)
@@ -110,8 +145,14 @@ class Geometry(tkr.Geometry):
         ang = np.linspace(0, 2 * math.pi, 73)[:-1]
         xs = np.arange(-self.x_in, self.x_in + 1e-9, step)
         X, A = np.meshgrid(xs, ang, indexing="ij")
-        cam = np.stack([X, self.cam_centre[0] + self.cam_radius * np.cos(A),
-                        self.cam_centre[1] + self.cam_radius * np.sin(A)], axis=-1)
+        cam = np.stack(
+            [
+                X,
+                self.cam_centre[0] + self.cam_radius * np.cos(A),
+                self.cam_centre[1] + self.cam_radius * np.sin(A),
+            ],
+            axis=-1,
+        )
         out["cam"] = cam.reshape(-1, 3)
         xs = np.arange(-self.x_in, self.x_in + 1e-9, step)
         X, W = np.meshgrid(xs, w, indexing="ij")
@@ -203,6 +244,7 @@ def build_occ(g, which=("femur", "tibia")):
     """The CAD solids of C in the current gmsh model: tkr.build_occ plus the
     cam (femur) and the post (insert), fused.  Returns {name: [tags]}."""
     import gmsh
+
     occ = gmsh.model.occ
     res = tkr.build_occ(g, which)
     if "femur" in which:
@@ -225,6 +267,7 @@ def build_occ(g, which=("femur", "tibia")):
 
 def cad_volumes(g):
     import gmsh
+
     gmsh.initialize(["gmsh", "-v", "0"])
     try:
         gmsh.model.add("c")
@@ -239,6 +282,7 @@ def face_sizes_for_deviation(deviation, h_max, samples=12):
     sqrt(8 deviation R) with R the smallest principal radius of curvature
     found on the face (sampled on its parameter domain), at most h_max."""
     import gmsh
+
     sizes = {}
     for _, s in gmsh.model.getEntities(2):
         lo, hi = gmsh.model.getParametrizationBounds(2, s)
@@ -258,6 +302,7 @@ def chordal_stl(path, deviation=0.3, h_max=12.0):
     triangles on flat faces) and return the largest measured distance of
     the facets (centroids, edge midpoints) from the CAD faces."""
     import gmsh
+
     sizes = face_sizes_for_deviation(deviation, h_max)
 
     def size(dim, tag, x, y, z):
@@ -265,8 +310,15 @@ def chordal_stl(path, deviation=0.3, h_max=12.0):
             return sizes.get(tag, h_max)
         if dim == 1:
             return min([sizes[f] for f in gmsh.model.getAdjacencies(1, tag)[0]] or [h_max])
-        return min([sizes[f] for c in gmsh.model.getAdjacencies(0, tag)[0]
-                    for f in gmsh.model.getAdjacencies(1, c)[0]] or [h_max])
+        return min(
+            [
+                sizes[f]
+                for c in gmsh.model.getAdjacencies(0, tag)[0]
+                for f in gmsh.model.getAdjacencies(1, c)[0]
+            ]
+            or [h_max]
+        )
+
     gmsh.model.mesh.setSizeCallback(size)
     gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
     gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
@@ -284,8 +336,14 @@ def chordal_stl(path, deviation=0.3, h_max=12.0):
     for _, s in gmsh.model.getEntities(2):
         for et, _, nt in zip(*gmsh.model.mesh.getElements(2, s)):
             T = X[np.array(nt, np.int64).reshape(-1, 3)]
-            P = np.concatenate([T.mean(axis=1), 0.5 * (T[:, 0] + T[:, 1]),
-                                0.5 * (T[:, 1] + T[:, 2]), 0.5 * (T[:, 2] + T[:, 0])])
+            P = np.concatenate(
+                [
+                    T.mean(axis=1),
+                    0.5 * (T[:, 0] + T[:, 1]),
+                    0.5 * (T[:, 1] + T[:, 2]),
+                    0.5 * (T[:, 2] + T[:, 0]),
+                ]
+            )
             q, _ = gmsh.model.getClosestPoint(2, s, P.reshape(-1))
             worst = max(worst, float(np.linalg.norm(np.array(q).reshape(-1, 3) - P, axis=1).max()))
     gmsh.option.setNumber("Mesh.Binary", 1)
@@ -299,6 +357,7 @@ def export_cad(outdir, deviation=0.25):
     import os
 
     import gmsh
+
     g = Geometry()
     out = []
     for name, fname in (("femur", "femur"), ("tibia", "insert")):
@@ -328,10 +387,17 @@ def femur_contact_without_cam(step):
 
     import gmsh
     import mesh_implant
+
     g = Geometry()
-    args = argparse.Namespace(units="mm", feature_angle=40.0, size=8.0, femur_contact_faces=None,
-                              femur_fixation_faces=None, tibia_contact_faces=None,
-                              tibia_inferior_faces=None)
+    args = argparse.Namespace(
+        units="mm",
+        feature_angle=40.0,
+        size=8.0,
+        femur_contact_faces=None,
+        femur_fixation_faces=None,
+        tibia_contact_faces=None,
+        tibia_inferior_faces=None,
+    )
     gmsh.initialize(["gmsh", "-v", "0"])
     try:
         with tempfile.TemporaryDirectory() as tmp, contextlib.redirect_stdout(io.StringIO()):
@@ -340,8 +406,12 @@ def femur_contact_without_cam(step):
         for s in part.contact:
             lo = np.array(gmsh.model.getBoundingBox(2, s))
             c = np.array(gmsh.model.occ.getCenterOfMass(2, s))
-            cam = (gmsh.model.getType(2, s) == "Cylinder" and lo[0] >= -g.x_in - 1e-6
-                   and lo[3] <= g.x_in + 1e-6 and np.linalg.norm(c[1:] - g.cam_centre) < g.cam_radius)
+            cam = (
+                gmsh.model.getType(2, s) == "Cylinder"
+                and lo[0] >= -g.x_in - 1e-6
+                and lo[3] <= g.x_in + 1e-6
+                and np.linalg.norm(c[1:] - g.cam_centre) < g.cam_radius
+            )
             if not cam:
                 ids.append(s)
     finally:
@@ -349,8 +419,20 @@ def femur_contact_without_cam(step):
     return sorted(ids)
 
 
-COARSE = ["--contact-size", "5", "--size", "12", "--layers", "1", "--layer-thickness", "1.0",
-          "--sweep-size", "3", "--sweep-cells", "4"]
+COARSE = [
+    "--contact-size",
+    "5",
+    "--size",
+    "12",
+    "--layers",
+    "1",
+    "--layer-thickness",
+    "1.0",
+    "--sweep-size",
+    "3",
+    "--sweep-cells",
+    "4",
+]
 
 
 def make_coarse(path, cad_dir):
@@ -363,11 +445,15 @@ def make_coarse(path, cad_dir):
     import tempfile
 
     import mesh_implant
+
     femur = os.path.join(cad_dir, "tkr-c-femur.step")
     insert = os.path.join(cad_dir, "tkr-c-insert.step")
     rel = lambda p: os.path.join("meshes/tkr/cad", os.path.basename(p))
-    argv = ["--femur", rel(femur), "--insert", rel(insert)] + COARSE + [
-        "--femur-contact-faces", ",".join(map(str, femur_contact_without_cam(femur)))]
+    argv = (
+        ["--femur", rel(femur), "--insert", rel(insert)]
+        + COARSE
+        + ["--femur-contact-faces", ",".join(map(str, femur_contact_without_cam(femur)))]
+    )
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "tkr-c-coarse.msh")
         cwd = os.getcwd()
@@ -384,12 +470,15 @@ def make_coarse(path, cad_dir):
     # the exact flexion axis (the distal-arc centre, moved with the femur)
     # instead of mesh-implant's estimate, which the coarse facets bias
     import re
+
     g = Geometry()
     dz = float(re.search(r"femur moved along z by ([-+0-9.]+) mm", text).group(1))
-    prm = re.sub(r"set Flexion axis point = .*",
-                 "set Flexion axis point = 0, %.3f, %.3f\n  # (replaced by tkr_ps.make_coarse: the "
-                 "distal-arc centre of the CAD, moved by %+.4f mm with the femur)" % (g.C_d[0], g.C_d[1] + dz, dz),
-                 prm)
+    prm = re.sub(
+        r"set Flexion axis point = .*",
+        "set Flexion axis point = 0, %.3f, %.3f\n  # (replaced by tkr_ps.make_coarse: the "
+        "distal-arc centre of the CAD, moved by %+.4f mm with the femur)" % (g.C_d[0], g.C_d[1] + dz, dz),
+        prm,
+    )
     return text.replace(tmp + "/", ""), prm.replace(tmp + "/", "meshes/tkr/")
 
 
@@ -399,50 +488,80 @@ def geometry_report(mesh_report=None, mesh_check=None):
     mesh (mesh-implant's report, check_msh's result)."""
     g = Geometry()
     vols = cad_volumes(g)
-    fem = g.femur_point(np.linspace(-g.x_out, g.x_out, 5)[:, None],
-                        np.linspace(0, g.S[4], 2000)[None, :], 0.0).reshape(-1, 3)
-    L = ["TKR variant C (posterior-stabilised): geometry report (generated by meshes/gen/tkr_ps.py; mm)", "",
-         "parameters (shell and dishes, as tkr.py):"]
+    fem = g.femur_point(
+        np.linspace(-g.x_out, g.x_out, 5)[:, None], np.linspace(0, g.S[4], 2000)[None, :], 0.0
+    ).reshape(-1, 3)
+    L = [
+        "TKR variant C (posterior-stabilised): geometry report (generated by meshes/gen/tkr_ps.py; mm)",
+        "",
+        "parameters (shell and dishes, as tkr.py):",
+    ]
     L += ["  %-16s %g" % kv for kv in VARIANT.items()]
     L += ["parameters (post and cam):"] + ["  %-16s %g" % kv for kv in PS.items()]
-    L += ["", "derived:",
-          "  insert: width %.1f (x), depth %.1f (y), height %.1f at the plateau, %.1f at the post top; "
-          "minimum thickness %.1f at the dish bottoms (+-%.1f, %.1f, %.1f)"
-          % (2 * g.A, 2 * g.B, g.H, g.post_top, g.t_min, g.x_c, g.y_dish, g.t_min),
-          "  insert conformity: sagittal R_d/R_ts = %.2f (A 0.80), frontal R_f/R_tf = %.2f (A 0.93)"
-          % (g.R_d / g.R_ts, g.R_f / g.R_tf),
-          "  post: x -%.1f..%.1f (width %.1f), posterior face y = %.1f (vertical), anterior face y = %.1f "
-          "(vertical) up to z = %.1f, chamfered to (y %.1f, z %.1f), top z = %.1f (%.1f above the plateau)"
-          % (g.post_half_width, g.post_half_width, 2 * g.post_half_width, g.post_back, g.post_front,
-             g.post_chamfer, g.post_front_top, g.post_top, g.post_top, g.post_top - g.H),
-          "  femoral component: width %.1f, AP extent %.1f (y %.1f..%.1f), height %.1f (z %.1f..%.1f); "
-          "condyle width %.1f, condyle spacing %.1f"
-          % (2 * g.x_out, np.ptp(fem[:, 1]), fem[:, 1].min(), fem[:, 1].max(), np.ptp(fem[:, 2]),
-             fem[:, 2].min(), fem[:, 2].max(), 2 * g.w_condyle, 2 * g.x_c),
-          "  intercondylar box: walls x = +-%.1f (width %.1f, %.1f mm from each side of the post), "
-          "open behind theta = %.0f deg, no roof (the post never reaches the bone side)"
-          % (g.x_in, 2 * g.x_in, g.x_in - g.post_half_width, g.th_notch),
-          "  cam: cylinder along x between the box walls, radius %.1f, axis at (y, z) = (%.2f, %.2f) "
-          "(inset %.1f from the J-curve at theta = %.0f deg)"
-          % (g.cam_radius, g.cam_centre[0], g.cam_centre[1], g.cam_eta, g.cam_theta),
-          "  J-curve: distal arc R_d centre (%.3f, %.3f); posterior arc R_p centre (%.3f, %.3f); "
-          "anterior arc R_a centre (%.3f, %.3f)"
-          % (g.C_d[0], g.C_d[1], g.C_p[0], g.C_p[1], g.C_a[0], g.C_a[1]),
-          "  flexion axis point (parallel to x): (0, %.3f, %.3f), the distal-arc centre"
-          % (g.C_d[0], g.C_d[1]),
-          "  initial position (0 deg): lowest condyle points (+-%.1f, %.1f, %.4f), gap %.4g mm above "
-          "the dish bottoms" % (g.x_c, g.y_dish, g.t_min + g.gap, g.gap),
-          "  CAD volumes (OpenCASCADE): femur %.3f mm^3, insert %.3f mm^3" % (vols["femur"], vols["tibia"]),
-          "", "exact-geometry contact check (femur rotated about the distal-arc centre, then lowered "
-          "to touch the dishes):"]
+    L += [
+        "",
+        "derived:",
+        "  insert: width %.1f (x), depth %.1f (y), height %.1f at the plateau, %.1f at the post top; "
+        "minimum thickness %.1f at the dish bottoms (+-%.1f, %.1f, %.1f)"
+        % (2 * g.A, 2 * g.B, g.H, g.post_top, g.t_min, g.x_c, g.y_dish, g.t_min),
+        "  insert conformity: sagittal R_d/R_ts = %.2f (A 0.80), frontal R_f/R_tf = %.2f (A 0.93)"
+        % (g.R_d / g.R_ts, g.R_f / g.R_tf),
+        "  post: x -%.1f..%.1f (width %.1f), posterior face y = %.1f (vertical), anterior face y = %.1f "
+        "(vertical) up to z = %.1f, chamfered to (y %.1f, z %.1f), top z = %.1f (%.1f above the plateau)"
+        % (
+            g.post_half_width,
+            g.post_half_width,
+            2 * g.post_half_width,
+            g.post_back,
+            g.post_front,
+            g.post_chamfer,
+            g.post_front_top,
+            g.post_top,
+            g.post_top,
+            g.post_top - g.H,
+        ),
+        "  femoral component: width %.1f, AP extent %.1f (y %.1f..%.1f), height %.1f (z %.1f..%.1f); "
+        "condyle width %.1f, condyle spacing %.1f"
+        % (
+            2 * g.x_out,
+            np.ptp(fem[:, 1]),
+            fem[:, 1].min(),
+            fem[:, 1].max(),
+            np.ptp(fem[:, 2]),
+            fem[:, 2].min(),
+            fem[:, 2].max(),
+            2 * g.w_condyle,
+            2 * g.x_c,
+        ),
+        "  intercondylar box: walls x = +-%.1f (width %.1f, %.1f mm from each side of the post), "
+        "open behind theta = %.0f deg, no roof (the post never reaches the bone side)"
+        % (g.x_in, 2 * g.x_in, g.x_in - g.post_half_width, g.th_notch),
+        "  cam: cylinder along x between the box walls, radius %.1f, axis at (y, z) = (%.2f, %.2f) "
+        "(inset %.1f from the J-curve at theta = %.0f deg)"
+        % (g.cam_radius, g.cam_centre[0], g.cam_centre[1], g.cam_eta, g.cam_theta),
+        "  J-curve: distal arc R_d centre (%.3f, %.3f); posterior arc R_p centre (%.3f, %.3f); "
+        "anterior arc R_a centre (%.3f, %.3f)" % (g.C_d[0], g.C_d[1], g.C_p[0], g.C_p[1], g.C_a[0], g.C_a[1]),
+        "  flexion axis point (parallel to x): (0, %.3f, %.3f), the distal-arc centre" % (g.C_d[0], g.C_d[1]),
+        "  initial position (0 deg): lowest condyle points (+-%.1f, %.1f, %.4f), gap %.4g mm above "
+        "the dish bottoms" % (g.x_c, g.y_dish, g.t_min + g.gap, g.gap),
+        "  CAD volumes (OpenCASCADE): femur %.3f mm^3, insert %.3f mm^3" % (vols["femur"], vols["tibia"]),
+        "",
+        "exact-geometry contact check (femur rotated about the distal-arc centre, then lowered "
+        "to touch the dishes):",
+    ]
     L += ["  " + s for s in clearance_report(g)]
-    L += ["  cam over the insert's dishes and plateau (vertical, mm): "
-          + ", ".join("%.0f deg %.2f" % (p, cam_over_insert(g, p)) for p in (0, 20, 40, 60)),
-          "  the cam meets the post's posterior face at %.1f deg of flexion" % cam_engagement(g)]
+    L += [
+        "  cam over the insert's dishes and plateau (vertical, mm): "
+        + ", ".join("%.0f deg %.2f" % (p, cam_over_insert(g, p)) for p in (0, 20, 40, 60)),
+        "  the cam meets the post's posterior face at %.1f deg of flexion" % cam_engagement(g),
+    ]
     if mesh_report:
-        L += ["", "meshes/tkr/tkr-c-coarse.msh: scripts/mesh-implant %s on the STEP files, with "
-              "--femur-contact-faces leaving the cam out of femur_contact "
-              "(tkr_ps.femur_contact_without_cam); its report:" % " ".join(COARSE)]
+        L += [
+            "",
+            "meshes/tkr/tkr-c-coarse.msh: scripts/mesh-implant %s on the STEP files, with "
+            "--femur-contact-faces leaving the cam out of femur_contact "
+            "(tkr_ps.femur_contact_without_cam); its report:" % " ".join(COARSE),
+        ]
         L += ["  " + s for s in mesh_report.splitlines()]
     if mesh_check:
         L += ["", "meshes/gen/check_msh.py:"] + ["  " + s for s in mesh_check.splitlines()]
@@ -455,20 +574,28 @@ def main(argv):
     import os
     import subprocess
     import sys
+
     here = os.path.dirname(os.path.abspath(__file__))
     meshes = os.path.dirname(here)
     cad_dir = os.path.join(meshes, "tkr", "cad")
     if not argv or "cad" in argv:
         for f, dev in export_cad(cad_dir):
-            print("made  %s (%.2f MB)%s" % (os.path.relpath(f, meshes), os.path.getsize(f) / 1e6,
-                                            "" if dev is None else ", chordal deviation %.3f mm" % dev))
+            print(
+                "made  %s (%.2f MB)%s"
+                % (
+                    os.path.relpath(f, meshes),
+                    os.path.getsize(f) / 1e6,
+                    "" if dev is None else ", chordal deviation %.3f mm" % dev,
+                )
+            )
     if not argv or "mesh" in argv:
         path = os.path.join(meshes, "tkr", "tkr-c-coarse.msh")
         text, prm = make_coarse(path, cad_dir)
         with open(os.path.join(meshes, "tkr", "tkr-c-coarse.prm"), "w") as f:
             f.write(prm)
-        check = subprocess.run([sys.executable, os.path.join(here, "check_msh.py"), path],
-                               capture_output=True, text=True)
+        check = subprocess.run(
+            [sys.executable, os.path.join(here, "check_msh.py"), path], capture_output=True, text=True
+        )
         with open(os.path.join(meshes, "tkr", "tkr-c-report.txt"), "w") as f:
             f.write(geometry_report(text, check.stdout.replace(meshes + "/", "meshes/")))
         print("wrote tkr/tkr-c-coarse.msh, tkr/tkr-c-report.txt")
@@ -478,5 +605,6 @@ def main(argv):
 
 if __name__ == "__main__":
     import sys
+
     sys.path.insert(0, __import__("os").path.dirname(__import__("os").path.abspath(__file__)))
     sys.exit(main(sys.argv[1:]))

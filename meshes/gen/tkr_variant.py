@@ -32,8 +32,11 @@ def reexec_with_system_python(error):
     """numpy or gmsh missing under this python3 (a pyenv or venv first in
     PATH): run again under Debian's /usr/bin/python3."""
     system = "/usr/bin/python3"
-    if (os.access(system, os.X_OK) and not os.environ.get("TKR_GEN_REEXEC")
-            and os.path.realpath(sys.executable) != os.path.realpath(system)):
+    if (
+        os.access(system, os.X_OK)
+        and not os.environ.get("TKR_GEN_REEXEC")
+        and os.path.realpath(sys.executable) != os.path.realpath(system)
+    ):
         os.environ["TKR_GEN_REEXEC"] = "1"
         os.execv(system, [system, os.path.abspath(__file__)] + sys.argv[1:])
     fail("needs python3-numpy (%s)" % error)
@@ -64,15 +67,13 @@ def main():
     if args.variant not in tkr.VARIANTS:
         fail("unknown variant <%s> (%s)" % (args.variant, ", ".join(tkr.VARIANTS)))
     if args.resolution not in tkr.RESOLUTIONS:
-        fail("unknown resolution <%s> (%s)"
-             % (args.resolution, ", ".join(tkr.RESOLUTIONS)))
+        fail("unknown resolution <%s> (%s)" % (args.resolution, ", ".join(tkr.RESOLUTIONS)))
     params = dict(tkr.VARIANTS[args.variant])
     for item in args.set:
         name, _, value = item.partition("=")
         name = name.strip()
         if name not in params:
-            fail("--set %s: no parameter <%s> (%s)"
-                 % (item, name, ", ".join(sorted(params))))
+            fail("--set %s: no parameter <%s> (%s)" % (item, name, ", ".join(sorted(params))))
         try:
             params[name] = float(value)
         except ValueError:
@@ -87,8 +88,7 @@ def main():
     try:
         g = tkr.Geometry(args.variant, params)
         r = tkr.resolution(args.variant, args.resolution)
-        bodies = {"femur": tkr.femur_body(g, r).assemble(),
-                  "tibia": tkr.tibia_body(g, r).assemble()}
+        bodies = {"femur": tkr.femur_body(g, r).assemble(), "tibia": tkr.tibia_body(g, r).assemble()}
         write_msh(args.output, bodies, "tkr-%s-variant" % args.variant)
         result = check_msh.check(args.output, quiet=True)
     except Exception as e:  # the geometry cannot be built or meshed
@@ -97,15 +97,18 @@ def main():
         fail("the mesh of the variant is not valid: %s" % "; ".join(result["errors"]))
     if args.prm:
         with open(args.prm, "w") as f:
-            f.write("# tkr_variant.py --variant %s --resolution %s %s\n"
-                    % (args.variant, args.resolution,
-                       " ".join("--set " + s for s in args.set)))
-            f.write("subsection Mesh\n  set File = %s\nend\n"
-                    % os.path.abspath(args.output))
-            f.write("subsection Gait\n  set Flexion axis point = 0, %.12g, %.12g\nend\n"
-                    % (g.C_d[0], g.C_d[1]))
-    print("tkr_variant: %s: %d hexahedra, smallest corner quality %.3f"
-          % (args.output, result["hexahedra"], result["min_corner_quality"]))
+            f.write(
+                "# tkr_variant.py --variant %s --resolution %s %s\n"
+                % (args.variant, args.resolution, " ".join("--set " + s for s in args.set))
+            )
+            f.write("subsection Mesh\n  set File = %s\nend\n" % os.path.abspath(args.output))
+            f.write(
+                "subsection Gait\n  set Flexion axis point = 0, %.12g, %.12g\nend\n" % (g.C_d[0], g.C_d[1])
+            )
+    print(
+        "tkr_variant: %s: %d hexahedra, smallest corner quality %.3f"
+        % (args.output, result["hexahedra"], result["min_corner_quality"])
+    )
 
 
 if __name__ == "__main__":

@@ -87,12 +87,14 @@ def _plane_classifier(rules):
     """Surface -> group for planar faces: rules is a list of
     (axis, value, group); a face whose bounding box is flat in `axis` at
     `value` gets `group`."""
+
     def classify(s):
         bb = gmsh.model.getBoundingBox(2, s)
         for axis, value, group in rules:
             if abs(bb[axis] - value) < 1e-6 and abs(bb[axis + 3] - value) < 1e-6:
                 return group
         return None
+
     return classify
 
 
@@ -103,12 +105,20 @@ def make_patch():
     def femur():
         return gmsh.model.occ.addBox(0, 0, 0, PATCH_L, PATCH_L, PATCH_HF)
 
-    tib = _mesh_body("tibia", tibia, _plane_classifier([(2, 0.0, "tibia_contact"),
-                                                        (2, -PATCH_HT, "tibia_inferior")]),
-                     PATCH_SIZES["tibia"], PATCH_SIZES["tibia"])
-    fem = _mesh_body("femur", femur, _plane_classifier([(2, 0.0, "femur_contact"),
-                                                        (2, PATCH_HF, "femur_fixation")]),
-                     PATCH_SIZES["femur"], PATCH_SIZES["femur"])
+    tib = _mesh_body(
+        "tibia",
+        tibia,
+        _plane_classifier([(2, 0.0, "tibia_contact"), (2, -PATCH_HT, "tibia_inferior")]),
+        PATCH_SIZES["tibia"],
+        PATCH_SIZES["tibia"],
+    )
+    fem = _mesh_body(
+        "femur",
+        femur,
+        _plane_classifier([(2, 0.0, "femur_contact"), (2, PATCH_HF, "femur_fixation")]),
+        PATCH_SIZES["femur"],
+        PATCH_SIZES["femur"],
+    )
     return {"femur": fem, "tibia": tib}
 
 
@@ -136,11 +146,19 @@ def make_sphere():
             return "femur_fixation"
         return None
 
-    tib = _mesh_body("tibia", tibia, _plane_classifier([(2, 0.0, "tibia_contact"),
-                                                        (2, -D, "tibia_inferior")]),
-                     SPHERE_H0, SPHERE_HMAX, (0, 0, 0), SPHERE_NEAR, SPHERE_FAR)
-    fem = _mesh_body("femur", femur, femur_groups,
-                     SPHERE_H0, SPHERE_HMAX, (0, 0, gap), SPHERE_NEAR, SPHERE_FAR)
+    tib = _mesh_body(
+        "tibia",
+        tibia,
+        _plane_classifier([(2, 0.0, "tibia_contact"), (2, -D, "tibia_inferior")]),
+        SPHERE_H0,
+        SPHERE_HMAX,
+        (0, 0, 0),
+        SPHERE_NEAR,
+        SPHERE_FAR,
+    )
+    fem = _mesh_body(
+        "femur", femur, femur_groups, SPHERE_H0, SPHERE_HMAX, (0, 0, gap), SPHERE_NEAR, SPHERE_FAR
+    )
     return {"femur": fem, "tibia": tib}
 
 
@@ -166,10 +184,19 @@ def write(name, path):
 
 def make_implant(path=None):
     import mesh_implant
+
     cad = os.path.join(MESHES, "tkr", "cad")
     path = path or os.path.join(MESHES, "tkr", "tkr-a-implant.msh")
-    mesh_implant.main(["--femur", os.path.join(cad, "tkr-a-femur.step"),
-                       "--insert", os.path.join(cad, "tkr-a-insert.step"), "-o", path])
+    mesh_implant.main(
+        [
+            "--femur",
+            os.path.join(cad, "tkr-a-femur.step"),
+            "--insert",
+            os.path.join(cad, "tkr-a-insert.step"),
+            "-o",
+            path,
+        ]
+    )
 
 
 def main(argv):
@@ -185,12 +212,24 @@ def main(argv):
         bodies = write(name, path)
         s = blockmesh.summary(bodies)
         for b in ("femur", "tibia"):
-            print("%s %s: %d vertices, %d hexahedra, volume %.2f mm^3 (exact %.2f), "
-                  "min scaled corner Jacobian %.3f, quads %s"
-                  % (name, b, s[b]["vertices"], s[b]["hexahedra"], s[b]["volume"],
-                     volumes(name)[b], s[b]["min_quality"], s[b]["quads"]))
-        print("wrote %s (%d Q1 DoFs)" % (os.path.relpath(path, MESHES),
-                                        3 * (s["femur"]["vertices"] + s["tibia"]["vertices"])))
+            print(
+                "%s %s: %d vertices, %d hexahedra, volume %.2f mm^3 (exact %.2f), "
+                "min scaled corner Jacobian %.3f, quads %s"
+                % (
+                    name,
+                    b,
+                    s[b]["vertices"],
+                    s[b]["hexahedra"],
+                    s[b]["volume"],
+                    volumes(name)[b],
+                    s[b]["min_quality"],
+                    s[b]["quads"],
+                )
+            )
+        print(
+            "wrote %s (%d Q1 DoFs)"
+            % (os.path.relpath(path, MESHES), 3 * (s["femur"]["vertices"] + s["tibia"]["vertices"]))
+        )
     return 0
 
 

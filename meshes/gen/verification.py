@@ -25,13 +25,13 @@ import numpy as np
 
 from blockmesh import Body, graded, grid1d, size_near
 
-R = 20.0          # sphere / cylinder radius
-H_CAP = 10.0      # height of the flat cut above the contact point
-R_SIDE = 12.0     # lateral trim radius (sphere) / half-width (cylinder)
-W = 30.0          # block half-width
-D = 30.0          # block depth
-LX = 10.0         # cylinder slab length in x
-GAP = 1e-3        # initial gap at the contact point
+R = 20.0  # sphere / cylinder radius
+H_CAP = 10.0  # height of the flat cut above the contact point
+R_SIDE = 12.0  # lateral trim radius (sphere) / half-width (cylinder)
+W = 30.0  # block half-width
+D = 30.0  # block depth
+LX = 10.0  # cylinder slab length in x
+GAP = 1e-3  # initial gap at the contact point
 
 RESOLUTIONS = {
     #           h0 at contact, inner box half-width, shell layers, layers in body
@@ -89,7 +89,7 @@ def sphere_body(h, nz, nr):
 
     def column(P):
         """P (..., 2) plan points -> (..., nz+1, 3) column nodes."""
-        r2 = (P ** 2).sum(axis=-1)
+        r2 = (P**2).sum(axis=-1)
         zb = GAP + R - np.sqrt(R * R - r2)
         zt = GAP + H_CAP
         sig = graded(nz, 1.0, h / (H_CAP))
@@ -112,8 +112,8 @@ def sphere_body(h, nz, nr):
 
 
 def sphere_volume():
-    a2 = R_SIDE ** 2
-    return math.pi * a2 * H_CAP - (math.pi * R * a2 - 2 * math.pi / 3 * (R ** 3 - (R * R - a2) ** 1.5))
+    a2 = R_SIDE**2
+    return math.pi * a2 * H_CAP - (math.pi * R * a2 - 2 * math.pi / 3 * (R**3 - (R * R - a2) ** 1.5))
 
 
 def make_sphere(res):
@@ -121,7 +121,9 @@ def make_sphere(res):
     tib = block_box_in_box(Body("tibia"), p["h0"], p["c"], p["nr"])
     fem = sphere_body(p["h0"], p["nz"], p["nrs"])
     return {"femur": fem.assemble(), "tibia": tib.assemble()}, {
-        "femur": sphere_volume(), "tibia": (2 * W) ** 2 * D}
+        "femur": sphere_volume(),
+        "tibia": (2 * W) ** 2 * D,
+    }
 
 
 # ---------------------------------------------------------------- cylinder
@@ -148,11 +150,11 @@ def cylinder_block(h0, c, nr, nx):
     for sign in (+1, -1):
         P_in = np.stack(np.meshgrid([sign * c], z, indexing="ij"), axis=-1)[0]
         P_out = np.stack(np.meshgrid([sign * W], Z_out, indexing="ij"), axis=-1)[0]
-        P = P_in[None] + s[:, None, None] * (P_out - P_in)[None]   # (t, k, 2)
+        P = P_in[None] + s[:, None, None] * (P_out - P_in)[None]  # (t, k, 2)
         body.add(_extrude_x(P, xs), {"kmax": "tibia_contact"})
     P_in = np.stack(np.meshgrid(y, [-c], indexing="ij"), axis=-1)[:, 0]
     P_out = np.stack(np.meshgrid(Y_out, [-D], indexing="ij"), axis=-1)[:, 0]
-    P = P_in[:, None] + s[None, :, None] * (P_out - P_in)[:, None]   # (j, t, 2)
+    P = P_in[:, None] + s[None, :, None] * (P_out - P_in)[:, None]  # (j, t, 2)
     body.add(_extrude_x(P, xs), {"kmax": "tibia_inferior"})
     return body
 
@@ -161,7 +163,7 @@ def cylinder_body(h, nz, nx):
     body = Body("femur")
     xs = np.linspace(-LX / 2, LX / 2, nx + 1)
     y = grid1d([-R_SIDE, 0.0, R_SIDE], size_near([0.0], h, 2.5 * h + 0.5, 3.0, 0.35))
-    zb = GAP + R - np.sqrt(R * R - y ** 2)
+    zb = GAP + R - np.sqrt(R * R - y**2)
     zt = GAP + H_CAP
     sig = graded(nz, 1.0, h / H_CAP)
     Z = zb[:, None] + (zt - zb)[:, None] * sig[None, :]
@@ -172,7 +174,11 @@ def cylinder_body(h, nz, nx):
 
 def cylinder_volume():
     ys = R_SIDE
-    area = 2 * ys * H_CAP - 2 * ys * R + 2 * (ys * math.sqrt(R * R - ys * ys) / 2 + R * R / 2 * math.asin(ys / R))
+    area = (
+        2 * ys * H_CAP
+        - 2 * ys * R
+        + 2 * (ys * math.sqrt(R * R - ys * ys) / 2 + R * R / 2 * math.asin(ys / R))
+    )
     return area * LX
 
 
@@ -181,7 +187,9 @@ def make_cylinder(res):
     tib = cylinder_block(p["h0"], p["c"], p["nr"], p["nx"])
     fem = cylinder_body(p["h0"], p["nz"], p["nx"])
     return {"femur": fem.assemble(), "tibia": tib.assemble()}, {
-        "femur": cylinder_volume(), "tibia": 2 * W * D * LX}
+        "femur": cylinder_volume(),
+        "tibia": 2 * W * D * LX,
+    }
 
 
 def make_sphere_volumes():

@@ -34,8 +34,14 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
-TYPES = {"Float32": np.float32, "Float64": np.float64, "Int32": np.int32,
-         "UInt8": np.uint8, "Int64": np.int64, "UInt32": np.uint32}
+TYPES = {
+    "Float32": np.float32,
+    "Float64": np.float64,
+    "Int32": np.int32,
+    "UInt8": np.uint8,
+    "Int64": np.int64,
+    "UInt32": np.uint32,
+}
 
 
 def fail(message):
@@ -50,11 +56,11 @@ def decode(text, dtype):
     n_blocks = int(np.frombuffer(first[:4], np.uint32)[0])
     header_length = 4 * math.ceil(4 * (3 + n_blocks) / 3)
     header = np.frombuffer(base64.b64decode(text[:header_length]), np.uint32)
-    sizes = header[3:3 + n_blocks]
+    sizes = header[3 : 3 + n_blocks]
     payload = base64.b64decode(text[header_length:])
     data, offset = b"", 0
     for size in sizes:
-        data += zlib.decompress(payload[offset:offset + int(size)])
+        data += zlib.decompress(payload[offset : offset + int(size)])
         offset += int(size)
     return np.frombuffer(data, dtype)
 
@@ -94,8 +100,9 @@ def read_series(directory, name):
             points.append(p)
             for key, value in f.items():
                 fields.setdefault(key, []).append(value)
-        series.append((float(dataset.get("timestep")), np.vstack(points),
-                       {k: np.vstack(v) for k, v in fields.items()}))
+        series.append(
+            (float(dataset.get("timestep")), np.vstack(points), {k: np.vstack(v) for k, v in fields.items()})
+        )
     return series
 
 
@@ -119,8 +126,16 @@ def main():
     if times != list(range(len(steps))):
         fail("step.pvd lists the steps %s, steps.csv has %d" % (times, len(steps)))
     print("step.pvd: %d steps, each with its pieces" % len(series))
-    needed = {"displacement", "contact_pressure", "gap", "active", "motion",
-              "slip_to_next_mm", "wear_to_next_pm", "material_id"}
+    needed = {
+        "displacement",
+        "contact_pressure",
+        "gap",
+        "active",
+        "motion",
+        "slip_to_next_mm",
+        "wear_to_next_pm",
+        "material_id",
+    }
     for (time, points, fields), row in zip(series, steps):
         step = int(round(time))
         missing = needed - set(fields)
@@ -130,32 +145,30 @@ def main():
         pressure = fields["contact_pressure"][tibia, 0]
         expected = float(row["max_pressure_MPa"])
         if not close(pressure.max(), expected, 1e-5):
-            fail("step %d: largest contact_pressure %g, steps.csv %g"
-                 % (step, pressure.max(), expected))
+            fail("step %d: largest contact_pressure %g, steps.csv %g" % (step, pressure.max(), expected))
         active = points[tibia][fields["active"][tibia, 0] > 0.5]
         n_active = len({tuple(p) for p in active})
         if n_active != int(row["active_nodes"]):
-            fail("step %d: %d active nodes in the VTU, steps.csv %s"
-                 % (step, n_active, row["active_nodes"]))
+            fail("step %d: %d active nodes in the VTU, steps.csv %s" % (step, n_active, row["active_nodes"]))
         theta = math.radians(float(row["flexion_deg"]))
-        rotation = np.array([[1, 0, 0],
-                             [0, math.cos(theta), -math.sin(theta)],
-                             [0, math.sin(theta), math.cos(theta)]])
+        rotation = np.array(
+            [[1, 0, 0], [0, math.cos(theta), -math.sin(theta)], [0, math.sin(theta), math.cos(theta)]]
+        )
         femur = ~tibia
         X = points[femur].astype(float)
         rigid = (X - axis_point) @ rotation.T + axis_point - X
         elastic = np.abs(fields["motion"][femur] - rigid).max()
         if elastic > 0.01:
-            fail("step %d: the femur's motion differs from the flexion by %g mm"
-                 % (step, elastic))
-        print("step %d: max pressure / steps.csv = %.6f, active nodes %d, "
-              "femur motion = flexion of %.1f deg to 0.01 mm"
-              % (step, pressure.max() / expected, n_active, float(row["flexion_deg"])))
+            fail("step %d: the femur's motion differs from the flexion by %g mm" % (step, elastic))
+        print(
+            "step %d: max pressure / steps.csv = %.6f, active nodes %d, "
+            "femur motion = flexion of %.1f deg to 0.01 mm"
+            % (step, pressure.max() / expected, n_active, float(row["flexion_deg"]))
+        )
 
     worn = read_series(directory, "worn")
     if len(worn) != int(summary["blocks"]):
-        fail("worn.pvd lists %d outputs, summary.json %s blocks"
-             % (len(worn), summary["blocks"]))
+        fail("worn.pvd lists %d outputs, summary.json %s blocks" % (len(worn), summary["blocks"]))
     cycles, _, fields = worn[-1]
     depth = fields["wear_depth_mm"][:, 0].max()
     expected = float(summary["max_wear_depth_mm"])
@@ -164,37 +177,36 @@ def main():
     if int(summary["blocks"]) == 1:
         rate = fields["wear_rate_um_per_Mcycles"][:, 0].max()
         if not close(1e-9 * rate * cycles, expected, 1e-5):
-            fail("largest wear rate %g um per million cycles x %g cycles "
-                 "differs from max_wear_depth_mm %g" % (rate, cycles, expected))
-    print("worn tibia: largest wear_depth_mm / summary.json = %.6f"
-          % (depth / expected))
+            fail(
+                "largest wear rate %g um per million cycles x %g cycles "
+                "differs from max_wear_depth_mm %g" % (rate, cycles, expected)
+            )
+    print("worn tibia: largest wear_depth_mm / summary.json = %.6f" % (depth / expected))
     cs = fields["cross_shear"][:, 0]
     if cs.min() < 0 or cs.max() > 0.5 + 1e-12:
         fail("cross_shear outside 0 .. 0.5: %g .. %g" % (cs.min(), cs.max()))
     mean = float(summary["mean_cross_shear"])
     if not 0 <= mean <= cs.max() + 1e-12:
-        fail("mean_cross_shear %g of summary.json outside 0 .. %g (the "
-             "VTU's largest)" % (mean, cs.max()))
-    print("worn tibia: cross_shear within 0 .. 0.5, summary.json's mean "
-          "within 0 .. the largest")
+        fail("mean_cross_shear %g of summary.json outside 0 .. %g (the " "VTU's largest)" % (mean, cs.max()))
+    print("worn tibia: cross_shear within 0 .. 0.5, summary.json's mean " "within 0 .. the largest")
     # the medial and lateral sides add up to the insert
-    sides = [{key: float(summary[side + "_" + key]) for key in
-              ("volume_loss_mm3", "max_wear_depth_mm", "wear_area_percent")}
-             for side in ("medial", "lateral")]
-    for key, total in (("volume_loss_mm3", sum), ("wear_area_percent", sum),
-                       ("max_wear_depth_mm", max)):
+    sides = [
+        {
+            key: float(summary[side + "_" + key])
+            for key in ("volume_loss_mm3", "max_wear_depth_mm", "wear_area_percent")
+        }
+        for side in ("medial", "lateral")
+    ]
+    for key, total in (("volume_loss_mm3", sum), ("wear_area_percent", sum), ("max_wear_depth_mm", max)):
         both = total(side[key] for side in sides)
         if not close(both, float(summary[key]), 1e-9):
-            fail("medial and lateral %s give %g, the insert %s"
-                 % (key, both, summary[key]))
-    print("sides: medial and lateral volume and wear area add up to the "
-          "insert's, the larger depth is its")
+            fail("medial and lateral %s give %g, the insert %s" % (key, both, summary[key]))
+    print("sides: medial and lateral volume and wear area add up to the " "insert's, the larger depth is its")
     for name in ("mass_loss.png", "wear_map.png", "cross_shear_map.png"):
         with open(os.path.join(directory, name), "rb") as f:
             if f.read(8) != b"\x89PNG\r\n\x1a\n":
                 fail(name + " is not a PNG file")
-    print("plots: mass_loss.png, wear_map.png and cross_shear_map.png are "
-          "PNG files")
+    print("plots: mass_loss.png, wear_map.png and cross_shear_map.png are " "PNG files")
     print("check_vtu: all checks passed")
 
 

@@ -27,11 +27,12 @@ THRESHOLD_MM = 1e-4
 def grid(nu, nv, place):
     """Structured nu x nv nodes; place(u, v) with u, v in [-1, 1] gives
     (x, y, z); faces counter-clockwise, 0-based."""
-    nodes = [place(-1 + 2 * i / (nu - 1), -1 + 2 * j / (nv - 1))
-             for j in range(nv) for i in range(nu)]
-    faces = [(j * nu + i, j * nu + i + 1, (j + 1) * nu + i + 1,
-              (j + 1) * nu + i)
-             for j in range(nv - 1) for i in range(nu - 1)]
+    nodes = [place(-1 + 2 * i / (nu - 1), -1 + 2 * j / (nv - 1)) for j in range(nv) for i in range(nu)]
+    faces = [
+        (j * nu + i, j * nu + i + 1, (j + 1) * nu + i + 1, (j + 1) * nu + i)
+        for j in range(nv - 1)
+        for i in range(nu - 1)
+    ]
     return nodes, faces
 
 
@@ -42,12 +43,10 @@ def kidney(u, v):
     # radially onto the superellipse |x|^4 + |y|^4 = 1 (rounded corners).
     dx, dy = u * math.sqrt(1 - v * v / 2), v * math.sqrt(1 - u * u / 2)
     theta = math.atan2(dy, dx)
-    stretch = (abs(math.cos(theta)) ** 4 +
-               abs(math.sin(theta)) ** 4) ** -0.25
+    stretch = (abs(math.cos(theta)) ** 4 + abs(math.sin(theta)) ** 4) ** -0.25
     x, y = 35 * stretch * dx, 25 * stretch * dy
-    y += 9 * math.exp(-(x / 9) ** 2) * ((1 - v) / 2) ** 3  # notch at y < 0
-    z = 2 - 2.5 * sum(math.exp(-((x - c) / 12) ** 2 - (y / 16) ** 2)
-                      for c in (-18, 18))
+    y += 9 * math.exp(-((x / 9) ** 2)) * ((1 - v) / 2) ** 3  # notch at y < 0
+    z = 2 - 2.5 * sum(math.exp(-(((x - c) / 12) ** 2) - (y / 16) ** 2) for c in (-18, 18))
     return x, y, z
 
 
@@ -63,8 +62,7 @@ def volume_and_area(nodes, depths, faces):
     volume = area = worn = 0.0
     for f in faces:
         p = [nodes[n] for n in f]
-        a = 0.5 * abs(sum(p[k][0] * p[(k + 1) % 4][1] -
-                          p[(k + 1) % 4][0] * p[k][1] for k in range(4)))
+        a = 0.5 * abs(sum(p[k][0] * p[(k + 1) % 4][1] - p[(k + 1) % 4][0] * p[k][1] for k in range(4)))
         d = sum(depths[n] for n in f) / 4
         volume += a * d
         area += a
@@ -72,8 +70,7 @@ def volume_and_area(nodes, depths, faces):
     return volume, 100 * worn / area
 
 
-def write(directory, nodes, depths, faces, history, summary,
-          history_columns):
+def write(directory, nodes, depths, faces, history, summary, history_columns):
     os.makedirs(directory, exist_ok=True)
     with open(os.path.join(directory, "wear_map.csv"), "w") as f:
         # a made-up cross-shear, 0 .. 0.5 across the surface
@@ -97,23 +94,20 @@ def write(directory, nodes, depths, faces, history, summary,
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("directory")
-    parser.add_argument("--insert", action="store_true",
-                        help="the realistic kidney-shaped insert")
-    parser.add_argument("--nodes", type=int, nargs=2, default=(71, 51),
-                        metavar=("NU", "NV"))
+    parser.add_argument("--insert", action="store_true", help="the realistic kidney-shaped insert")
+    parser.add_argument("--nodes", type=int, nargs=2, default=(71, 51), metavar=("NU", "NV"))
     arguments = parser.parse_args()
 
     if arguments.insert:
         nodes, faces = grid(*arguments.nodes, kidney)
-        depths = [patch(x, y, -17.5, 1.5, 7.5, 11.0, 0.40) +
-                  patch(x, y, 18.0, -0.5, 7.0, 11.5, 0.30)
-                  for x, y, _ in nodes]
+        depths = [
+            patch(x, y, -17.5, 1.5, 7.5, 11.0, 0.40) + patch(x, y, 18.0, -0.5, 7.0, 11.5, 0.30)
+            for x, y, _ in nodes
+        ]
         blocks, cycles_per_block = 100, 5e4
     else:
-        nodes, faces = grid(10, 10, lambda u, v: (4.5 * u + 4.5,
-                                                  4.5 * v + 4.5, 0.0))
-        depths = [0.05 * math.exp(-((x - 4.5) ** 2 + (y - 4.5) ** 2) / 4)
-                  for x, y, _ in nodes]
+        nodes, faces = grid(10, 10, lambda u, v: (4.5 * u + 4.5, 4.5 * v + 4.5, 0.0))
+        depths = [0.05 * math.exp(-((x - 4.5) ** 2 + (y - 4.5) ** 2) / 4) for x, y, _ in nodes]
         blocks, cycles_per_block = 4, 1.25e6
 
     volume, area_percent = volume_and_area(nodes, depths, faces)
@@ -121,28 +115,45 @@ def main():
     history = []
     for block in range(blocks + 1):
         s = block / blocks  # wear grows linearly, as in the simulation
-        history.append({
-            "block": block, "cycles": block * cycles_per_block,
-            "volume_mm3": s * volume,
-            "mass_mg": s * volume * DENSITY_MG_PER_MM3,
-            "max_depth_mm": s * d_max,
-            "wear_area_percent": area_percent if block else 0.0,
-            "peak_pressure_MPa": 0.0 if block == 0 else 24.0 - 4 * s,
-            "max_contact_area_mm2": 0.0 if block == 0 else 310 + 60 * s,
-            "wall_time_s": 950.0 * block, "pose_updates": 3})
+        history.append(
+            {
+                "block": block,
+                "cycles": block * cycles_per_block,
+                "volume_mm3": s * volume,
+                "mass_mg": s * volume * DENSITY_MG_PER_MM3,
+                "max_depth_mm": s * d_max,
+                "wear_area_percent": area_percent if block else 0.0,
+                "peak_pressure_MPa": 0.0 if block == 0 else 24.0 - 4 * s,
+                "max_contact_area_mm2": 0.0 if block == 0 else 310 + 60 * s,
+                "wall_time_s": 950.0 * block,
+                "pose_updates": 3,
+            }
+        )
     # Columns in a different order than the list in doc/output.md, and one
     # extra column: plot-wear finds them by name and ignores the rest.
-    columns = ["block", "cycles", "mass_mg", "volume_mm3", "max_depth_mm",
-               "wear_area_percent", "peak_pressure_MPa",
-               "max_contact_area_mm2", "pose_updates", "wall_time_s"]
-    summary = {"problem": "wear (SYNTHETIC, for plot-wear)",
-               "cycles": blocks * cycles_per_block,
-               "mass_loss_mg": volume * DENSITY_MG_PER_MM3,
-               "volume_loss_mm3": volume, "max_wear_depth_mm": d_max,
-               "wear_area_percent": area_percent,
-               "wear_area_threshold_mm": THRESHOLD_MM, "converged": True}
-    write(arguments.directory, nodes, depths, faces, history, summary,
-          columns)
+    columns = [
+        "block",
+        "cycles",
+        "mass_mg",
+        "volume_mm3",
+        "max_depth_mm",
+        "wear_area_percent",
+        "peak_pressure_MPa",
+        "max_contact_area_mm2",
+        "pose_updates",
+        "wall_time_s",
+    ]
+    summary = {
+        "problem": "wear (SYNTHETIC, for plot-wear)",
+        "cycles": blocks * cycles_per_block,
+        "mass_loss_mg": volume * DENSITY_MG_PER_MM3,
+        "volume_loss_mm3": volume,
+        "max_wear_depth_mm": d_max,
+        "wear_area_percent": area_percent,
+        "wear_area_threshold_mm": THRESHOLD_MM,
+        "converged": True,
+    }
+    write(arguments.directory, nodes, depths, faces, history, summary, columns)
 
 
 if __name__ == "__main__":

@@ -80,21 +80,27 @@ def shell():
         return np.column_stack([np.zeros(len(c)), c[:, 1] - Y0, c[:, 2] - Z0])
 
     X, P = np.meshgrid(x, phi, indexing="ij")
-    parts = {"outer": grid_triangles(point(X, R, P), radial),
-             "inner": grid_triangles(point(X, R - THICKNESS, P), lambda c: -radial(c))}
+    parts = {
+        "outer": grid_triangles(point(X, R, P), radial),
+        "inner": grid_triangles(point(X, R - THICKNESS, P), lambda c: -radial(c)),
+    }
     end = np.radians(SPAN)
     for s in (-1, 1):
         Xr, Rr = np.meshgrid(x, r, indexing="ij")
-        parts["rim%+d" % s] = grid_triangles(point(Xr, Rr, s * end), constant([0.0, s * np.cos(end), np.sin(end)]))
+        parts["rim%+d" % s] = grid_triangles(
+            point(Xr, Rr, s * end), constant([0.0, s * np.cos(end), np.sin(end)])
+        )
         Rp, Pp = np.meshgrid(r, phi, indexing="ij")
-        parts["end%+d" % s] = grid_triangles(point(np.full(Rp.shape, s * HALF_LENGTH), Rp, Pp), constant([s, 0, 0]))
+        parts["end%+d" % s] = grid_triangles(
+            point(np.full(Rp.shape, s * HALF_LENGTH), Rp, Pp), constant([s, 0, 0])
+        )
     return parts
 
 
 def labels_by_part(parts, labels):
     out, start = {}, 0
     for name, T in parts.items():
-        out[name] = labels[start:start + len(T)]
+        out[name] = labels[start : start + len(T)]
         start += len(T)
     return out
 
@@ -150,8 +156,10 @@ def test_convex_femur_has_no_fixation():
     phi = np.radians(np.linspace(-180.0, 180.0, 121))
     x = np.linspace(-HALF_LENGTH, HALF_LENGTH, 31)
     X, P = np.meshgrid(x, phi, indexing="ij")
-    side = grid_triangles(np.stack([X, Y0 + R * np.sin(P), Z0 - R * np.cos(P)], -1),
-                          lambda c: np.column_stack([np.zeros(len(c)), c[:, 1] - Y0, c[:, 2] - Z0]))
+    side = grid_triangles(
+        np.stack([X, Y0 + R * np.sin(P), Z0 - R * np.cos(P)], -1),
+        lambda c: np.column_stack([np.zeros(len(c)), c[:, 1] - Y0, c[:, 2] - Z0]),
+    )
     insert = np.concatenate(list(box((-20.0, -15.0, 0.0), (20.0, 15.0, 10.0), 1.0).values()))
     with pytest.raises(ValueError, match="femur_fixation"):
         st.tag_pair(side, insert, DISTANCE)
@@ -166,5 +174,5 @@ def test_smooth_patches_of_a_box_are_its_faces():
     assert len(np.unique(patch)) == 6
     start = 0
     for t in faces.values():
-        assert len(np.unique(patch[start:start + len(t)])) == 1
+        assert len(np.unique(patch[start : start + len(t)])) == 1
         start += len(t)
