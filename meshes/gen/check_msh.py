@@ -213,12 +213,11 @@ def check(path, quiet=False):
                 continue
             vs.update(conn)
             x = [nodes[n] for n in conn]
-            scale = 0.0
             for c, (i, j, k) in enumerate(CORNER_NEIGHBOURS):
                 e1, e2, e3 = sub(x[i], x[c]), sub(x[j], x[c]), sub(x[k], x[c])
                 d = det3(e1, e2, e3)
-                l = (sum(t * t for t in e1) * sum(t * t for t in e2) * sum(t * t for t in e3)) ** 0.5
-                q = d / l if l > 0 else -1.0
+                norm = (sum(t * t for t in e1) * sum(t * t for t in e2) * sum(t * t for t in e3)) ** 0.5
+                q = d / norm if norm > 0 else -1.0
                 worst = min(worst, q)
                 if d <= 0:
                     inverted += 1

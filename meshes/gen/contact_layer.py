@@ -89,7 +89,10 @@ class SizeField:
     def __call__(self, dim, tag, x, y, z):
         i = np.clip(np.round((np.array([x, y, z]) - self.lo) / self.cell).astype(int), 0, self.n - 1)
         i = tuple(i)
-        grow = lambda d: self.h0 + (self.h1 - self.h0) * min(1.0, max(0.0, d) / self.grading)
+
+        def grow(d):
+            return self.h0 + (self.h1 - self.h0) * min(1.0, max(0.0, d) / self.grading)
+
         h = grow(self.d_own[i])
         if self.d_other is not None:
             h = max(h, grow(self.d_other[i] - self.reach))

@@ -32,7 +32,6 @@ import math
 
 import numpy as np
 
-import blockmesh
 from blockmesh import Body, graded
 
 import gmsh
@@ -119,7 +118,10 @@ def sort_faces(faces, groups, normals, flat_tol=1e-6, flat_normal=0.9999, rim=()
             "the base (faces %s) is not flat and horizontal (heights %.3g .. %.3g mm, "
             "within %g)" % (base, z.min(), z.max(), flat_tol)
         )
-    area = lambda P, n: triangle_areas(P)
+
+    def area(P, n):
+        return triangle_areas(P)
+
     walls, top = [], []
     for s in faces:
         n = normals[s]

@@ -1189,8 +1189,8 @@ def main(argv=None):
     tib, off_seat, seat_area = seat_only(tib)
     if off_seat:
         say(
-            "tibia_inferior: the seat only (%.1f mm^2), %d quadrangles of the underside off it (a recess's floor, "
-            "a rounded rim) left traction free" % (seat_area, off_seat)
+            "tibia_inferior: the seat only (%.1f mm^2), %d quadrangles of the underside off it "
+            "(a recess's floor, a rounded rim) left traction free" % (seat_area, off_seat)
         )
     fn = fem[0].copy()
     if args.offset:

@@ -148,8 +148,7 @@ class Geometry:
         self.delta_edge = self.fil_eta - re * math.cos(ae)
         assert self.delta_edge < self.t_fem - 4.0, "femoral shell too thin at the edges"
         # ---------------- femur J-curve
-        th = lambda a: a * DEG
-        self.th = {k: th(getattr(self, k)) for k in ("th_fa", "th_0", "th_1", "th_2", "th_notch")}
+        self.th = {k: getattr(self, k) * DEG for k in ("th_fa", "th_0", "th_1", "th_2", "th_notch")}
         zc = self.t_min + self.gap
         self.C_d = np.array([self.y_dish, zc + self.R_d])
         self.C_a = self.C_d + (self.R_d - self.R_a) * e(self.th["th_0"])
@@ -244,7 +243,10 @@ class Geometry:
         pieces_condyle = [(xc - w, xc - u1), (xc - u1, xc), (xc, xc + u1), (xc + u1, xc + w)]
         for lo, hi, k in kap:
             L = hi - lo
-            f = lambda xs: L * (t - self.delta(xs)) - k * L * (t**2 - self.delta(xs) ** 2) / 2
+
+            def f(xs):
+                return L * (t - self.delta(xs)) - k * L * (t**2 - self.delta(xs) ** 2) / 2
+
             for a, b in pieces_condyle:
                 V += 2 * int_x(a, b, f)
         # bridge, s in [0, s_notch]
@@ -446,8 +448,6 @@ def _occ_profile_wire(g, s0, with_bridge, side=None):
     if with_bridge:
         segs = list(reversed([(b, a, c) for (a, b, c) in condyle(-1)])) + condyle(+1)
         # left outer edge -> ... -> right outer edge, with a bridge line in between
-        pts_prev = None
-        x_start = -g.x_out
         first = None
         last = None
         prev_end = None
@@ -618,7 +618,6 @@ def clearance_report(variant, flexions=(0, 10, 20, 30, 40, 50, 60), step=0.25):
         Zf = g.femur_lower_surface(X, Y, phi)
         gap = np.where(inside, Zf - Ht, np.inf)
         gmin = gap.min()
-        i = np.unravel_index(np.argmin(gap), gap.shape)
         gap = gap - gmin
         # the touching points (one per condyle), then clearance away from them
         far = np.ones_like(gap, bool)
@@ -668,8 +667,8 @@ def geometry_report(variant, meshes=()):
         "  insert: width %.1f (x), depth %.1f (y), height %.1f (plateau top z = %.1f), "
         "minimum thickness %.1f at the dish bottoms (+-%.1f, %.1f, %.1f)"
         % (2 * g.A, 2 * g.B, g.H, g.H, g.t_min, g.x_c, g.y_dish, g.t_min),
-        "  insert conformity: sagittal R_d/R_ts = %.2f (posterior arc R_p/R_ts = %.2f), frontal R_f/R_tf = %.2f"
-        % (g.R_d / g.R_ts, g.R_p / g.R_ts, g.R_f / g.R_tf),
+        "  insert conformity: sagittal R_d/R_ts = %.2f (posterior arc R_p/R_ts = %.2f), "
+        "frontal R_f/R_tf = %.2f" % (g.R_d / g.R_ts, g.R_p / g.R_ts, g.R_f / g.R_tf),
         "  femoral component: width %.1f, AP extent %.1f (y %.1f..%.1f), height %.1f (z %.1f..%.1f), "
         "condyle width %.1f, notch width %.1f, condyle spacing %.1f"
         % (

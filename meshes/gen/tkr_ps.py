@@ -216,7 +216,10 @@ def cam_engagement(g, step=2.0, tol=0.1, top=120.0):
     the post: a scan in steps of `step` deg, then bisection; None if not
     up to `top` deg."""
     cam = g.femur_features()["cam"]
-    clear = lambda phi: g.post_distance(g.flex(cam, phi, touch_drop(g, phi))).min()
+
+    def clear(phi):
+        return g.post_distance(g.flex(cam, phi, touch_drop(g, phi))).min()
+
     lo = 0.0
     while lo + step <= top and clear(lo + step) > 0.0:
         lo += step
@@ -448,7 +451,10 @@ def make_coarse(path, cad_dir):
 
     femur = os.path.join(cad_dir, "tkr-c-femur.step")
     insert = os.path.join(cad_dir, "tkr-c-insert.step")
-    rel = lambda p: os.path.join("meshes/tkr/cad", os.path.basename(p))
+
+    def rel(p):
+        return os.path.join("meshes/tkr/cad", os.path.basename(p))
+
     argv = (
         ["--femur", rel(femur), "--insert", rel(insert)]
         + COARSE

@@ -26,8 +26,6 @@ written and checked like all others (blockmesh.write_msh, check_msh.py).
 import os
 import sys
 
-import numpy as np
-
 HERE = os.path.dirname(os.path.abspath(__file__))
 MESHES = os.path.dirname(HERE)
 sys.path.insert(0, HERE)

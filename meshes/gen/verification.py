@@ -56,8 +56,8 @@ def block_box_in_box(body, h0, c, nr, tag_top="tibia_contact", tag_bottom="tibia
     X_out = x * (W / c)
     Z_out = -D + (z + c) * (D / c)
     # inner box
-    I = np.stack(np.meshgrid(x, x, z, indexing="ij"), axis=-1)
-    body.add(I, {"kmax": tag_top})
+    inner = np.stack(np.meshgrid(x, x, z, indexing="ij"), axis=-1)
+    body.add(inner, {"kmax": tag_top})
     # side blocks, index order (t, along, z) with t the shell coordinate
     for sign in (+1, -1):
         for axis in (0, 1):

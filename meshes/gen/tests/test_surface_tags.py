@@ -119,9 +119,9 @@ def test_synthetic_pair_is_closed():
 def test_tag_pair_groups_of_shell_on_box():
     femur = shell()
     insert = box((-20.0, -15.0, 0.0), (20.0, 15.0, 10.0), 0.5)
-    F = np.concatenate(list(femur.values()))
-    I = np.concatenate(list(insert.values()))
-    fem, ins, point = st.tag_pair(F, I, DISTANCE)
+    fem_tris = np.concatenate(list(femur.values()))
+    ins_tris = np.concatenate(list(insert.values()))
+    fem, ins, point = st.tag_pair(fem_tris, ins_tris, DISTANCE)
 
     assert point == pytest.approx((0.0, Y0, Z0), abs=1e-6)
 
