@@ -11,7 +11,9 @@ TKR_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 # libsuitesparse-dev (CHOLMOD) and libmumps-dev (parallel MUMPS, for the
 # test contact/ipopt_mumps_01) come with libdeal.ii-dev anyway; listed
 # because tkr-wear uses them directly.
-TKR_PACKAGES="libdeal.ii-dev gmsh coinor-libipopt-dev numdiff clang-format cmake g++ make pkg-config libopenblas0-pthread libsuitesparse-dev libmumps-dev python3-matplotlib python3-numpy python3-gmsh python3-scipy libcgal-dev"
+# black, flake8: the Python half of the format check (scripts/indent);
+# python3-pytest: the Python unit tests (ctest -R python/unit).
+TKR_PACKAGES="libdeal.ii-dev gmsh coinor-libipopt-dev numdiff clang-format cmake g++ make pkg-config libopenblas0-pthread libsuitesparse-dev libmumps-dev python3-matplotlib python3-numpy python3-gmsh python3-scipy libcgal-dev black flake8 python3-pytest"
 TKR_JOBS=${TKR_JOBS:-$(nproc)}
 
 # OpenMPI refuses to start as root unless told that this is intended.
