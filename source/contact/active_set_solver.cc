@@ -28,8 +28,8 @@ namespace TKR::Contact
                     slave_youngs_modulus,
                     mpi_communicator,
                     pcout,
-                    timer)
-    , testing(testing)
+                    timer,
+                    testing)
     , system(elasticity)
   {}
 
@@ -299,17 +299,14 @@ namespace TKR::Contact
                                    const Elasticity::SolverStatistics &linear,
                                    const double wall_time) const
   {
-    pcout << "    active set iteration " << std::setw(2) << iteration << ": "
+    trace << "    active set iteration " << std::setw(2) << iteration << ": "
           << std::setw(6) << n_active << " active, " << std::setw(5)
-          << n_changed << " changed";
-    if (!testing)
-      pcout << ", CG " << linear.iterations << " it., residual "
-            << std::scientific << std::setprecision(1)
-            << linear.relative_residual << std::defaultfloat
-            << std::setprecision(6) << ", " << std::fixed
-            << std::setprecision(2) << wall_time << " s" << std::defaultfloat
-            << std::setprecision(6);
-    pcout << std::endl;
+          << n_changed << " changed, CG " << linear.iterations
+          << " it., residual " << std::scientific << std::setprecision(1)
+          << linear.relative_residual << std::defaultfloat
+          << std::setprecision(6) << ", " << std::fixed << std::setprecision(2)
+          << wall_time << " s" << std::defaultfloat << std::setprecision(6)
+          << std::endl;
   }
 
   ContactStatistics

@@ -342,7 +342,7 @@ namespace TKR::Contact
         }
         const unsigned int n_changed =
           active_set_update.count_changes(coupling, state);
-        pcout << "    active set iteration " << std::setw(2) << iteration
+        trace << "    active set iteration " << std::setw(2) << iteration
               << ": " << std::setw(6) << active.size() << " active, "
               << std::setw(5) << n_changed << " changed" << std::endl;
         if (n_changed == 0)

@@ -18,13 +18,15 @@ namespace TKR::Contact
                                const double              slave_youngs_modulus,
                                const MPI_Comm            mpi_communicator,
                                const ConditionalOStream &pcout,
-                               TimerOutput              &timer)
+                               TimerOutput              &timer,
+                               const bool                testing)
     : elasticity(elasticity)
     , coupling(coupling)
     , parameters(parameters)
     , slave_youngs_modulus(slave_youngs_modulus)
     , mpi_communicator(mpi_communicator)
     , pcout(pcout)
+    , trace(pcout.get_stream(), pcout.is_active() && !testing)
     , timer(timer)
   {}
 
@@ -154,7 +156,8 @@ namespace TKR::Contact
             E_slave,
             mpi_communicator,
             pcout,
-            timer);
+            timer,
+            parameters.output.testing);
         default:
           return std::make_unique<ActiveSetSolver>(elasticity,
                                                    coupling,

@@ -208,10 +208,11 @@ namespace TKR::Problems
     const double half_approach = 0.5 * (closure - std::max(min_gap, 0.));
     if (half_approach <= entry)
       return entry;
-    model.pcout() << "  first active set: the nodes within "
-                  << format_number(half_approach)
-                  << " mm of the smallest gap (half the femur's approach)"
-                  << std::endl;
+    if (!parameters.output.testing)
+      model.pcout() << "  first active set: the nodes within "
+                    << format_number(half_approach)
+                    << " mm of the smallest gap (half the femur's approach)"
+                    << std::endl;
     return half_approach;
   }
 
@@ -319,9 +320,11 @@ namespace TKR::Problems
     const double radius  = std::sqrt(statistics.contact_area / numbers::PI);
     const double force   = statistics.contact_force.norm();
     model.pcout() << "Contact "
-                  << (statistics.converged ? "converged" : "did NOT converge")
-                  << " in " << statistics.newton_iterations
-                  << " active-set iterations" << std::endl
+                  << (statistics.converged ? "converged" : "did NOT converge");
+    if (!model.parameters().output.testing)
+      model.pcout() << " in " << statistics.newton_iterations
+                    << " active-set iterations";
+    model.pcout() << std::endl
                   << "  active nodes:       " << statistics.n_active
                   << std::endl
                   << "  contact force:      " << force << " N" << std::endl

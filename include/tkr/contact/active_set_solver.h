@@ -38,7 +38,7 @@ namespace TKR::Contact
                     const MPI_Comm                      mpi_communicator,
                     const dealii::ConditionalOStream   &pcout,
                     dealii::TimerOutput                &timer,
-                    const bool                          testing);
+                    const bool                          testing = false);
 
     /** The solve() for a combination of the load basis, too. */
     using ContactSolver::solve;
@@ -166,7 +166,6 @@ namespace TKR::Contact
     gather(const Mortar::MortarOperator                &B,
            const dealii::TrilinosWrappers::MPI::Vector &vector) const;
 
-    const bool testing;
     /** The linear system of the Newton steps. */
     Elasticity::ElasticSystem system;
   };

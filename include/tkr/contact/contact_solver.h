@@ -49,7 +49,8 @@ namespace TKR::Contact
                   const double                        slave_youngs_modulus,
                   const MPI_Comm                      mpi_communicator,
                   const dealii::ConditionalOStream   &pcout,
-                  dealii::TimerOutput                &timer);
+                  dealii::TimerOutput                &timer,
+                  const bool                          testing = false);
 
     virtual ~ContactSolver() = default;
 
@@ -180,8 +181,13 @@ namespace TKR::Contact
     const double                        slave_youngs_modulus;
     const MPI_Comm                      mpi_communicator;
     const dealii::ConditionalOStream    pcout;
-    dealii::TimerOutput                &timer;
-    dealii::AffineConstraints<double>   dirichlet;
+    /**
+     * The solver's iteration trace: pcout, but silent with
+     * `Output/Testing` (solver internals stay out of compared output).
+     */
+    const dealii::ConditionalOStream  trace;
+    dealii::TimerOutput              &timer;
+    dealii::AffineConstraints<double> dirichlet;
     /** The springs of setup() and the load basis of set_load_basis(). */
     Elasticity::BoundaryLoads              springs;
     std::vector<Elasticity::BoundaryLoads> load_basis;

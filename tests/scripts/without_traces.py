@@ -1,0 +1,38 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Copy a result file without the solver's traces, for compare-files.sh.
+
+    without_traces.py IN OUT
+
+The iteration and solve counts of a run (JSON keys or CSV columns named in
+TRACES) say how the solver got there, not what it computed, so a better
+solver must not change a test's compared files. Other files are copied.
+"""
+import csv
+import json
+import shutil
+import sys
+
+TRACES = {"contact_solves", "mean_newton_iterations", "newton_iterations", "cg_iterations", "pose_updates"}
+
+
+def main(source, target):
+    if source.endswith(".json"):
+        with open(source) as f:
+            data = json.load(f)
+        with open(target, "w") as f:
+            json.dump({k: v for k, v in data.items() if k not in TRACES}, f, indent=2)
+    elif source.endswith(".csv"):
+        with open(source, newline="") as f:
+            rows = list(csv.reader(f))
+        keep = [i for i, name in enumerate(rows[0] if rows else []) if name not in TRACES]
+        with open(target, "w", newline="") as f:
+            csv.writer(f, lineterminator="\n").writerows(
+                [row[i] for i in keep if i < len(row)] for row in rows
+            )
+    else:
+        shutil.copyfile(source, target)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1], sys.argv[2])
