@@ -40,6 +40,18 @@ namespace TKR::Gait
 
     /** The pose's numbers: the tray's x and z (mm). */
     constexpr unsigned int pose_size = 2;
+
+    [[maybe_unused]] const bool registered = Protocols::add(
+      {"displacement",
+       "ISO 14243-3 displacement control (flexion, the tibial tray's AP "
+       "displacement and IE rotation prescribed, the axial force applied; "
+       "the tray's axial and medial-lateral position solved, no restraint "
+       "springs; the AP force and IE torque that hold the tray reported per "
+       "step; needs Tibial tray = rigid)",
+       [](const Parameters::Gait &parameters,
+          const InferiorSurface  &surface) -> std::unique_ptr<Protocol> {
+         return std::make_unique<DisplacementControl>(parameters, surface);
+       }});
   } // namespace
 
   DisplacementControl::DisplacementControl(const Parameters::Gait &parameters,

@@ -22,6 +22,16 @@ namespace TKR::Gait
                                                "axial_force_N",
                                                "ap_force_N",
                                                "ie_torque_Nm"};
+
+    [[maybe_unused]] const bool registered = Protocols::add(
+      {"force",
+       "ISO 14243-1 force control (flexion prescribed; axial force, AP force "
+       "and IE torque applied to the tibia, held by the AP and IE "
+       "restraints; the tibia's pose solved in every step)",
+       [](const Parameters::Gait &parameters,
+          const InferiorSurface  &surface) -> std::unique_ptr<Protocol> {
+         return std::make_unique<ForceControl>(parameters, surface);
+       }});
   } // namespace
 
   ForceControl::ForceControl(const Parameters::Gait &parameters,

@@ -2,8 +2,7 @@
 // This file is part of tkr-wear.
 
 #include <tkr/base/exceptions.h>
-#include <tkr/gait/displacement_control.h>
-#include <tkr/gait/force_control.h>
+#include <tkr/gait/gait_loads.h>
 #include <tkr/gait/protocol.h>
 
 #include <algorithm>
@@ -43,18 +42,7 @@ namespace TKR::Gait
   create_protocol(const Parameters::Gait &parameters,
                   const Triangulation<3> &triangulation)
   {
-    switch (parameters.control)
-      {
-        case Parameters::GaitControl::force:
-          return std::make_unique<ForceControl>(parameters,
-                                                measure_inferior_surface(
-                                                  triangulation));
-        case Parameters::GaitControl::displacement:
-          return std::make_unique<DisplacementControl>(parameters,
-                                                       measure_inferior_surface(
-                                                         triangulation));
-      }
-    AssertThrow(false, ExcNotImplemented());
-    return nullptr;
+    return Protocols::get(parameters.control, "Gait/Control")
+      .create(parameters, measure_inferior_surface(triangulation));
   }
 } // namespace TKR::Gait

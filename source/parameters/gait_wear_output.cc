@@ -4,7 +4,9 @@
 // The parameters of the wear run: subsections Gait, Wear and Output.
 
 #include <tkr/base/exceptions.h>
+#include <tkr/gait/protocol.h>
 #include <tkr/parameters/parameters.h>
+#include <tkr/wear/wear_law.h>
 
 #include "vector_entry.h"
 
@@ -23,17 +25,11 @@ namespace TKR::Parameters
       prm.declare_entry(
         "Control",
         "force",
-        Patterns::Selection("force|displacement"),
-        "The gait protocol, how the simulator drives the knee: force = ISO "
-        "14243-1 force control (flexion prescribed; axial force, AP force "
-        "and IE torque applied to the tibia, held by the AP and IE "
-        "restraints; the tibia's pose solved in every step). displacement "
-        "= ISO 14243-3 displacement control (flexion, the tibial tray's AP "
-        "displacement and IE rotation prescribed, the axial force applied; "
-        "the tray's axial and medial-lateral position solved, no restraint "
-        "springs; the AP force and IE torque that hold the tray reported "
-        "per step; needs Tibial tray = rigid). The waveform file must have "
-        "the protocol's columns (doc/gait.md).");
+        Patterns::Selection(TKR::Gait::Protocols::names()),
+        TKR::Gait::Protocols::documentation(
+          "The gait protocol, how the simulator drives the knee: ") +
+          " The waveform file must have the protocol's columns "
+          "(doc/gait.md).");
       prm.declare_entry(
         "Waveform file",
         "data/iso14243-1.csv",
@@ -246,9 +242,7 @@ namespace TKR::Parameters
   {
     prm.enter_subsection("Gait");
     {
-      control =
-        (prm.get("Control") == "displacement" ? GaitControl::displacement :
-                                                GaitControl::force);
+      control             = prm.get("Control");
       waveform_file       = prm.get("Waveform file");
       steps_per_cycle     = prm.get_integer("Steps per cycle");
       flexion_axis_point  = Point<3>(get_vector(prm, "Flexion axis point"));
@@ -295,18 +289,12 @@ namespace TKR::Parameters
   {
     prm.enter_subsection("Wear");
     {
-      prm.declare_entry(
-        "Wear law",
-        "archard",
-        Patterns::Selection("archard|archard_cs|area"),
-        "How the sliding of a gait cycle wears the insert (doc/wear.md): "
-        "archard = Archard's law with the constant Wear coefficient k, depth "
-        "rate k p |v_t| (the reference paper's model); archard_cs = Archard's "
-        "law with k from the Cross-shear table as a function of each node's "
-        "cross-shear over the cycle (and of the pressure if the table has a "
-        "pressure_MPa column); area = the contact-area law, worn volume = C x "
-        "contact area x sliding distance, i.e. depth rate C(cross-shear) "
-        "|v_t| whatever the pressure, C from the Cross-shear table.");
+      prm.declare_entry("Wear law",
+                        "archard",
+                        Patterns::Selection(TKR::Wear::WearLaws::names()),
+                        TKR::Wear::WearLaws::documentation(
+                          "How the sliding of a gait cycle wears the insert "
+                          "(doc/wear.md): "));
       prm.declare_entry("Wear coefficient",
                         "2e-7",
                         Patterns::Double(0),
@@ -388,19 +376,11 @@ namespace TKR::Parameters
   {
     prm.enter_subsection("Wear");
     {
-      const std::string name = prm.get("Wear law");
-      law                    = (name == "archard"    ? WearLawType::archard :
-                                name == "archard_cs" ? WearLawType::archard_cs :
-                                                       WearLawType::area);
-      wear_coefficient       = prm.get_double("Wear coefficient");
-      cross_shear_table      = prm.get("Cross-shear table");
-      run_in_file            = prm.get("Run-in file");
-      AssertThrow(law == WearLawType::archard || !cross_shear_table.empty(),
-                  ExcInputError("Wear/Wear law = " + name +
-                                " needs Wear/Cross-shear table, a CSV file "
-                                "of its coefficient over the cross-shear "
-                                "(doc/wear.md; data/wear/ has example "
-                                "tables)."));
+      law               = prm.get("Wear law");
+      wear_coefficient  = prm.get_double("Wear coefficient");
+      cross_shear_table = prm.get("Cross-shear table");
+      run_in_file       = prm.get("Run-in file");
+      TKR::Wear::check_wear_law(*this);
       cycles = prm.get_double("Cycles");
       cycles_per_extrapolation_step =
         prm.get_double("Cycles per extrapolation step");

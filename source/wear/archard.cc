@@ -3,6 +3,7 @@
 
 #include <tkr/wear/archard.h>
 
+#include <memory>
 #include <sstream>
 
 namespace TKR::Wear
@@ -19,6 +20,18 @@ namespace TKR::Wear
     text << "Archard, k = " << k_per_metre << " mm^3/(N m)";
     return text.str();
   }
+
+  namespace
+  {
+    [[maybe_unused]] const bool registered = WearLaws::add(
+      {"archard",
+       "Archard's law with the constant Wear coefficient k, depth rate k p "
+       "|v_t| (the reference paper's model)",
+       nothing_missing,
+       [](const Parameters::Wear &parameters) -> std::unique_ptr<WearLaw> {
+         return std::make_unique<ArchardWear>(parameters.wear_coefficient);
+       }});
+  } // namespace
 
   double
   ArchardWear::interval_depth(const CycleSliding &sliding,

@@ -8,6 +8,43 @@
 
 namespace TKR::Wear
 {
+  namespace
+  {
+    /** The laws with a coefficient over the cross-shear need its table. */
+    std::string
+    table_missing(const Parameters::Wear &parameters)
+    {
+      return parameters.cross_shear_table.empty() ?
+               "Wear/Wear law = " + parameters.law +
+                 " needs Wear/Cross-shear table, a CSV file of its "
+                 "coefficient over the cross-shear (doc/wear.md; data/wear/ "
+                 "has example tables)." :
+               "";
+    }
+
+    [[maybe_unused]] const bool archard_cs_registered = WearLaws::add(
+      {"archard_cs",
+       "Archard's law with k from the Cross-shear table as a function of "
+       "each node's cross-shear over the cycle (and of the pressure if the "
+       "table has a pressure_MPa column)",
+       table_missing,
+       [](const Parameters::Wear &parameters) -> std::unique_ptr<WearLaw> {
+         return std::make_unique<ArchardCrossShearWear>(
+           CrossShearTable(parameters.cross_shear_table, "k_mm3_per_Nm", true));
+       }});
+
+    [[maybe_unused]] const bool area_registered = WearLaws::add(
+      {"area",
+       "the contact-area law, worn volume = C x contact area x sliding "
+       "distance, i.e. depth rate C(cross-shear) |v_t| whatever the "
+       "pressure, C from the Cross-shear table",
+       table_missing,
+       [](const Parameters::Wear &parameters) -> std::unique_ptr<WearLaw> {
+         return std::make_unique<AreaWear>(
+           CrossShearTable(parameters.cross_shear_table, "C", false));
+       }});
+  } // namespace
+
   void
   CrossShearLaw::analyse_cycle(const CycleSliding &sliding)
   {

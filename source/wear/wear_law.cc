@@ -2,8 +2,6 @@
 // This file is part of tkr-wear.
 
 #include <tkr/base/exceptions.h>
-#include <tkr/wear/archard.h>
-#include <tkr/wear/cross_shear_laws.h>
 #include <tkr/wear/wear_law.h>
 
 #include <algorithm>
@@ -72,26 +70,20 @@ namespace TKR::Wear
     return wear;
   }
 
+  void
+  check_wear_law(const Parameters::Wear &parameters)
+  {
+    const std::string missing =
+      WearLaws::get(parameters.law, "Wear/Wear law").missing(parameters);
+    AssertThrow(missing.empty(), ExcInputError(missing));
+  }
+
   std::unique_ptr<WearLaw>
   create_wear_law(const Parameters::Wear &parameters)
   {
-    std::unique_ptr<WearLaw> law;
-    switch (parameters.law)
-      {
-        case Parameters::WearLawType::archard:
-          law = std::make_unique<ArchardWear>(parameters.wear_coefficient);
-          break;
-        case Parameters::WearLawType::archard_cs:
-          law = std::make_unique<ArchardCrossShearWear>(
-            CrossShearTable(parameters.cross_shear_table,
-                            "k_mm3_per_Nm",
-                            true));
-          break;
-        case Parameters::WearLawType::area:
-          law = std::make_unique<AreaWear>(
-            CrossShearTable(parameters.cross_shear_table, "C", false));
-          break;
-      }
+    check_wear_law(parameters);
+    std::unique_ptr<WearLaw> law =
+      WearLaws::get(parameters.law, "Wear/Wear law").create(parameters);
     if (!parameters.run_in_file.empty())
       law->set_run_in(read_run_in(parameters.run_in_file),
                       parameters.run_in_file);

@@ -200,12 +200,7 @@ namespace
                               }},
                              {"Gait/Control",
                               "displacement",
-                              [](const P &p) {
-                                return p.gait.control ==
-                                           GaitControl::displacement ?
-                                         std::string("displacement") :
-                                         std::string("force");
-                              }},
+                              [](const P &p) { return p.gait.control; }},
                              {"Gait/AP displacement sign",
                               "-1",
                               [](const P &p) {
@@ -256,9 +251,7 @@ namespace
                               [](const P &p) { return num(p.study.seed); }},
                              {"Study/Distributions",
                               "Wear/Wear coefficient = uniform(1e-7, 3e-7)",
-                              [](const P &p) {
-                                return p.study.distributions;
-                              }},
+                              [](const P &p) { return p.study.distributions; }},
                              {"Study/Mesh generator",
                               source + "/meshes/gen/tkr_variant.py",
                               [](const P &p) {
@@ -411,9 +404,8 @@ namespace
                               [](const P &p) { return num(p.mesh.fe_degree); }},
                              {"Mesh/Tibia contact group",
                               "tc",
-                              [](const P &p) {
-                                return p.mesh.tibia_contact_name;
-                              }},
+                              [](const P
+                                   &p) { return p.mesh.tibia_contact_name; }},
                              {"Mesh/Tibia group",
                               "t",
                               [](const P &p) { return p.mesh.tibia_name; }},
@@ -445,9 +437,8 @@ namespace
                               [](const P &p) { return yes(p.output.testing); }},
                              {"Output/VTU interval",
                               "3",
-                              [](const P &p) {
-                                return num(p.output.vtu_interval);
-                              }},
+                              [](const P
+                                   &p) { return num(p.output.vtu_interval); }},
                              {"Static contact/Axial force",
                               "900",
                               [](const P &p) {
@@ -539,13 +530,7 @@ namespace
                                    p) { return num(p.wear.wear_coefficient); }},
                              {"Wear/Wear law",
                               "area",
-                              [](const P &p) {
-                                return p.wear.law == WearLawType::archard ?
-                                         std::string("archard") :
-                                       p.wear.law == WearLawType::area ?
-                                         std::string("area") :
-                                         std::string("?");
-                              }},
+                              [](const P &p) { return p.wear.law; }},
                              {"Wear/Cross-shear table",
                               source + "/data/wear/example-area-law.csv",
                               [](const P &p) {

@@ -81,7 +81,7 @@ main()
 {
   initlog();
   TKR::Parameters::Wear parameters;
-  parameters.law              = TKR::Parameters::WearLawType::archard;
+  parameters.law              = "archard";
   parameters.wear_coefficient = 2e-7;
   const double k              = 2e-7 * 1e-3; // mm^3/(N mm)
 

@@ -11,11 +11,15 @@
 // - archard_cs with k = 1e-7 at 0 MPa and 3e-7 at 20 MPa: depth =
 //   k(p_j) p_j 2 s with k(p) = (1e-7 + 1e-8 p) 1e-3 mm^2/N.
 
+#include <tkr/base/exceptions.h>
 #include <tkr/problems/contact_problem.h>
 #include <tkr/wear/wear_law.h>
 
 #include <cmath>
 #include <fstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "../tests.h"
 
@@ -85,7 +89,7 @@ main(int argc, char **argv)
   const auto [p2, sliding2] = slide(2400, parameters);
 
   auto area               = parameters.wear;
-  area.law                = Parameters::WearLawType::area;
+  area.law                = "area";
   area.cross_shear_table  = "c.csv";
   const auto   d1         = depth(area, sliding1);
   const auto   d2         = depth(area, sliding2);
@@ -107,7 +111,7 @@ main(int argc, char **argv)
 
   const auto archard            = depth(parameters.wear, sliding1);
   auto       constant           = parameters.wear;
-  constant.law                  = Parameters::WearLawType::archard_cs;
+  constant.law                  = "archard_cs";
   constant.cross_shear_table    = "k.csv";
   const auto dc                 = depth(constant, sliding1);
   auto       by_pressure        = constant;
@@ -128,4 +132,23 @@ main(int argc, char **argv)
           << yes_no(constant_error <= 1e-14 * largest) << std::endl;
   deallog << "archard_cs, k(p) table: depth = k(p) p 2 s to 1e-12: "
           << yes_no(pressure_error <= 1e-12 * largest) << std::endl;
+
+  // The registry: the laws registered themselves; a name no law has and a
+  // law without its table are refused with the law's own message.
+  deallog << "registered laws: " << Wear::WearLaws::names() << std::endl;
+  for (const auto &[name, table] :
+       std::vector<std::pair<std::string, std::string>>{{"energy", ""},
+                                                        {"area", ""}})
+    try
+      {
+        auto wear              = parameters.wear;
+        wear.law               = name;
+        wear.cross_shear_table = table;
+        Wear::create_wear_law(wear);
+        deallog << name << ": accepted" << std::endl;
+      }
+    catch (const ExceptionBase &e)
+      {
+        deallog << name << ": refused: " << exception_message(e) << std::endl;
+      }
 }

@@ -10,6 +10,7 @@
 
 #include <deal.II/lac/affine_constraints.h>
 
+#include <tkr/base/registry.h>
 #include <tkr/elasticity/linear_elasticity.h>
 #include <tkr/gait/rigid_motion.h>
 #include <tkr/gait/step_report.h>
@@ -104,8 +105,9 @@ namespace TKR::Gait
    *   the driver (warm starts and checkpoints keep it as it is);
    * - its part of the step report (report(), input_text(), pose_text(),
    *   the columns of steps.csv).
-   * A new protocol is one class behind this interface and one line in
-   * create_protocol().
+   * A new protocol is one class behind this interface that registers
+   * itself (a ProtocolPlugin, Protocols::add() in its .cc file): nothing
+   * else names the protocols.
    */
   class Protocol
   {
@@ -245,6 +247,27 @@ namespace TKR::Gait
    */
   StepInput
   waveform_input(const Waveform &waveform, const double percent);
+
+  struct InferiorSurface;
+
+  /**
+   * A gait protocol as a plugin (Registry): the name that selects it in
+   * `Gait/Control`, the phrase that documents it there, and how it is made
+   * from the gait parameters and the tibia's inferior surface (where its
+   * loads act). Each protocol's .cc file registers its own
+   * (Protocols::add()).
+   */
+  struct ProtocolPlugin
+  {
+    std::string name;
+    std::string documentation;
+    std::function<std::unique_ptr<Protocol>(const Parameters::Gait &,
+                                            const InferiorSurface &)>
+      create;
+  };
+
+  /** The registered gait protocols. */
+  using Protocols = Registry<ProtocolPlugin>;
 
   /**
    * The protocol of `Gait/Control` with the waveform of `Gait/Waveform

@@ -141,23 +141,15 @@ namespace TKR::Parameters
     parse_parameters(dealii::ParameterHandler &prm);
   };
 
-  /** The gait protocols (`Gait/Control`, Gait::create_protocol()). */
-  enum class GaitControl
-  {
-    /** ISO 14243-1: forces and torque applied, the tibia's pose solved. */
-    force,
-    /**
-     * ISO 14243-3: flexion, AP displacement and IE rotation prescribed, the
-     * axial force applied, the tibia's axial and ML position solved.
-     */
-    displacement
-  };
-
   /** `subsection Gait`: the knee simulator's gait cycle. */
   struct Gait
   {
-    /** The protocol that drives the knee. */
-    GaitControl control;
+    /**
+     * The protocol that drives the knee: the name of a registered one
+     * (Gait::Protocols; each protocol registers itself,
+     * Gait::ProtocolPlugin).
+     */
+    std::string control;
     /** CSV file of the protocol's channels over the cycle, by column name. */
     std::string  waveform_file;
     unsigned int steps_per_cycle;
@@ -218,22 +210,14 @@ namespace TKR::Parameters
     parse_parameters(dealii::ParameterHandler &prm);
   };
 
-  /** The wear laws (`Wear/Wear law`, Wear::create_wear_law()). */
-  enum class WearLawType
-  {
-    /** Archard's law with a constant wear coefficient. */
-    archard,
-    /** Archard's law with k from a table over cross-shear (and pressure). */
-    archard_cs,
-    /** The contact-area law: depth = C(cross-shear) x slip. */
-    area
-  };
-
   /** `subsection Wear`: the wear law and its extrapolation. */
   struct Wear
   {
-    /** The wear law. */
-    WearLawType law;
+    /**
+     * The wear law: the name of a registered one (Wear::WearLaws; each
+     * law registers itself, Wear::WearLawPlugin).
+     */
+    std::string law;
     /** Archard wear coefficient k in mm^3/(N m), as in the literature. */
     double wear_coefficient;
     /** The CSV table of k or C over cross-shear (archard_cs, area). */

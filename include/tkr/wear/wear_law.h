@@ -4,10 +4,12 @@
 #ifndef tkr_wear_wear_law_h
 #define tkr_wear_wear_law_h
 
+#include <tkr/base/registry.h>
 #include <tkr/parameters/parameters.h>
 #include <tkr/wear/sliding.h>
 #include <tkr/wear/tables.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -50,8 +52,9 @@ namespace TKR::Wear
    * phases and is what the driver calls: every wear number of a run (the
    * block's wear, the step VTU fields, wear area and depth) comes from it.
    *
-   * A new law is one class behind this interface and one line in
-   * create_wear_law().
+   * A new law is one class behind this interface that registers itself
+   * (a WearLawPlugin, WearLaws::add() in its .cc file): nothing else
+   * names the laws.
    */
   class WearLaw
   {
@@ -125,9 +128,40 @@ namespace TKR::Wear
     std::string     run_in_file;
   };
 
-  /** The law of `Wear/Wear law` with its constants. */
+  /**
+   * A wear law as a plugin (Registry): the name that selects it in
+   * `Wear/Wear law`, the phrase that documents it there, what it lacks in
+   * the parameters (the input error; empty if nothing) and how it is made
+   * from them. Each law's .cc file registers its own (WearLaws::add()).
+   */
+  struct WearLawPlugin
+  {
+    std::string                                          name;
+    std::string                                          documentation;
+    std::function<std::string(const Parameters::Wear &)> missing;
+    std::function<std::unique_ptr<WearLaw>(const Parameters::Wear &)> create;
+  };
+
+  /** The registered wear laws. */
+  using WearLaws = Registry<WearLawPlugin>;
+
+  /**
+   * Refuse parameters whose law is unknown (naming the known ones) or
+   * lacks an input (the law's own message).
+   */
+  void
+  check_wear_law(const Parameters::Wear &parameters);
+
+  /** The law of `Wear/Wear law` with its constants and the run-in. */
   std::unique_ptr<WearLaw>
   create_wear_law(const Parameters::Wear &parameters);
+
+  /** For WearLawPlugin::missing: a law that needs nothing more. */
+  inline std::string
+  nothing_missing(const Parameters::Wear &)
+  {
+    return "";
+  }
 
   /** The worn volume, depth and area of a depth field on the worn surface. */
   struct WearMeasures
