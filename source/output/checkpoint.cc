@@ -7,6 +7,7 @@
 #include <deal.II/base/hdf5.h>
 #include <deal.II/base/mpi.h>
 
+#include <tkr/base/atomic_file.h>
 #include <tkr/base/exceptions.h>
 #include <tkr/base/mpi.h>
 #include <tkr/output/checkpoint.h>
@@ -444,31 +445,28 @@ namespace TKR::Output
   {
     on_root(
       [&]() {
-        const std::string temporary = checkpoint_file(directory) + ".tmp";
-        {
-          HDF5::File file(temporary, HDF5::File::FileAccessMode::create);
-          file.set_attribute("format_version", format_version);
-          file.set_attribute("parameters",
-                             to_text(state_parameters(parameters)));
-          write_counters(file, state);
-          const hsize_t n_vertices = state.depth.size();
-          write_dataset(file,
-                        "displacement",
-                        flatten(state.displacement),
-                        {n_vertices, 3});
-          write_dataset(file,
-                        "stiffness_displacement",
-                        flatten(state.stiffness_displacement),
-                        {n_vertices, 3});
-          write_dataset(file, "depth", state.depth, {n_vertices});
-          write_step_starts(file, state.step_starts);
-          write_history(file, state.history);
-          write_failed_steps(file, state.failed_steps);
-        }
-        AssertThrow(std::rename(temporary.c_str(),
-                                checkpoint_file(directory).c_str()) == 0,
-                    ExcInputError("Cannot write the checkpoint <" +
-                                  checkpoint_file(directory) + ">."));
+        write_atomically(
+          checkpoint_file(directory),
+          [&](const std::string &temporary) {
+            HDF5::File file(temporary, HDF5::File::FileAccessMode::create);
+            file.set_attribute("format_version", format_version);
+            file.set_attribute("parameters",
+                               to_text(state_parameters(parameters)));
+            write_counters(file, state);
+            const hsize_t n_vertices = state.depth.size();
+            write_dataset(file,
+                          "displacement",
+                          flatten(state.displacement),
+                          {n_vertices, 3});
+            write_dataset(file,
+                          "stiffness_displacement",
+                          flatten(state.stiffness_displacement),
+                          {n_vertices, 3});
+            write_dataset(file, "depth", state.depth, {n_vertices});
+            write_step_starts(file, state.step_starts);
+            write_history(file, state.history);
+            write_failed_steps(file, state.failed_steps);
+          });
       },
       mpi_communicator);
   }

@@ -5,6 +5,7 @@
 
 #include <deal.II/numerics/data_out.h>
 
+#include <tkr/base/atomic_file.h>
 #include <tkr/base/exceptions.h>
 #include <tkr/base/mpi.h>
 #include <tkr/mesh/mesh.h>
@@ -104,12 +105,8 @@ namespace TKR::Output
                        const std::vector<Wear::BlockResult> &rows,
                        const bool                            testing)
     {
-      const std::string filename  = directory + "/wear_history.csv";
-      const std::string temporary = filename + ".tmp";
+      std::ostringstream csv;
       {
-        std::ofstream csv(temporary);
-        AssertThrow(csv.good(),
-                    ExcInputError("Cannot write <" + temporary + ">."));
         csv << "block,cycles,volume_mm3,mass_mg,max_depth_mm,"
                "wear_area_percent,peak_pressure_MPa,max_contact_area_mm2";
         for (const std::string side : {"medial", "lateral"})
@@ -129,8 +126,7 @@ namespace TKR::Output
             csv << '\n';
           }
       }
-      AssertThrow(std::rename(temporary.c_str(), filename.c_str()) == 0,
-                  ExcInputError("Cannot write <" + filename + ">."));
+      write_atomically(directory + "/wear_history.csv", csv.str());
     }
   } // namespace
 

@@ -3,6 +3,7 @@
 
 #include <deal.II/base/mpi.h>
 
+#include <tkr/base/atomic_file.h>
 #include <tkr/base/exceptions.h>
 #include <tkr/output/summary.h>
 #include <tkr/output/wear_output.h>
@@ -67,20 +68,6 @@ namespace TKR::Problems
           values.clear();
         }
       return values;
-    }
-
-    /** Write @p text to @p filename via a temporary file and a rename. */
-    void
-    write_atomically(const std::string &filename, const std::string &text)
-    {
-      const std::string temporary = filename + ".tmp";
-      {
-        std::ofstream out(temporary);
-        out << text;
-        AssertThrow(out.good(),
-                    ExcInputError("Cannot write <" + temporary + ">."));
-      }
-      std::filesystem::rename(temporary, filename);
     }
 
     /**
