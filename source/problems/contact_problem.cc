@@ -187,6 +187,15 @@ namespace TKR::Problems
                   "together or raise the Initial contact distance."));
   }
 
+  // How far the Femur displacement closes the gap at slave node @p node:
+  // its component against the node's normal (mm).
+  double
+  ContactProblem::closure_at(const unsigned int node) const
+  {
+    return -(model.parameters().static_contact.femur_displacement *
+             model.coupling().slave_nodes()[node].normal);
+  }
+
   // Where the first Newton step starts. A femur displacement that closes
   // the smallest gap by an approach delta leaves, in Hertz's solution,
   // the nodes whose initial gap (beyond the smallest) is at most delta / 2
@@ -203,9 +212,8 @@ namespace TKR::Problems
     const auto [min_gap, closest] = Contact::smallest_gap(model.coupling());
     if (closest == numbers::invalid_unsigned_int)
       return entry;
-    const double closure = -(parameters.static_contact.femur_displacement *
-                             model.coupling().slave_nodes()[closest].normal);
-    const double half_approach = 0.5 * (closure - std::max(min_gap, 0.));
+    const double half_approach =
+      0.5 * (closure_at(closest) - std::max(min_gap, 0.));
     if (half_approach <= entry)
       return entry;
     if (!parameters.output.testing)
@@ -241,8 +249,7 @@ namespace TKR::Problems
     const auto [min_gap, closest] = Contact::smallest_gap(model.coupling());
     const Tensor<1, 3> &d =
       model.parameters().static_contact.femur_displacement;
-    const double closure =
-      -(d * model.coupling().slave_nodes()[closest].normal);
+    const double    closure = closure_at(closest);
     const Point<3> &x =
       model.geometry()
         .vertex_positions()[model.slave_surface().nodes()[closest].vertex];

@@ -52,6 +52,8 @@ namespace TKR::Problems
     void
     check_initial_gaps() const;
     double
+    closure_at(const unsigned int node) const;
+    double
     initial_contact_distance() const;
     Contact::ContactStatistics
     solve();
