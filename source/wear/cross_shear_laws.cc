@@ -46,10 +46,11 @@ namespace TKR::Wear
   } // namespace
 
   void
-  CrossShearLaw::analyse_cycle(const CycleSliding &sliding)
+  CrossShearLaw::analyse_cycle(const CycleSliding &,
+                               const std::vector<CrossShear> &cross_shear)
   {
     ratio.clear();
-    for (const auto &node : cycle_cross_shear(sliding))
+    for (const auto &node : cross_shear)
       ratio.push_back(node.ratio);
   }
 

@@ -10,7 +10,7 @@
 namespace TKR::Wear
 {
   void
-  WearLaw::analyse_cycle(const CycleSliding &)
+  WearLaw::analyse_cycle(const CycleSliding &, const std::vector<CrossShear> &)
   {}
 
   std::string
@@ -48,9 +48,10 @@ namespace TKR::Wear
   CycleWear
   WearLaw::cycle_wear(const CycleSliding &sliding)
   {
-    analyse_cycle(sliding);
+    CycleWear wear;
+    wear.cross_shear = cycle_cross_shear(sliding);
+    analyse_cycle(sliding, wear.cross_shear);
     const unsigned int n_nodes = sliding.n_nodes();
-    CycleWear          wear;
     wear.depth.assign(n_nodes, 0.);
     wear.slip.assign(n_nodes, 0.);
     for (unsigned int i = 0; i < sliding.n_intervals(); ++i)

@@ -19,7 +19,8 @@ namespace TKR::Wear
   {
   public:
     void
-    analyse_cycle(const CycleSliding &sliding) override;
+    analyse_cycle(const CycleSliding            &sliding,
+                  const std::vector<CrossShear> &cross_shear) override;
 
   protected:
     /** The cross-shear ratio of every node over the cycle analysed last. */

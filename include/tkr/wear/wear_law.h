@@ -6,6 +6,7 @@
 
 #include <tkr/base/registry.h>
 #include <tkr/parameters/parameters.h>
+#include <tkr/wear/cross_shear.h>
 #include <tkr/wear/sliding.h>
 #include <tkr/wear/tables.h>
 
@@ -38,6 +39,9 @@ namespace TKR::Wear
     /** The law's own per-node quantities of the cycle (WearLaw::node_fields()).
      */
     NodeFields fields;
+    /** The cross-shear of every node over the cycle (computed once, for
+     *  every law: the laws over it use it, and the run reports it). */
+    std::vector<CrossShear> cross_shear;
   };
 
   /**
@@ -71,11 +75,13 @@ namespace TKR::Wear
     description() const;
 
     /**
-     * Phase 1: per-node quantities over the whole cycle @p sliding, kept
-     * for interval_depth() and node_fields(). Nothing by default.
+     * Phase 1: per-node quantities over the whole cycle @p sliding (whose
+     * nodes' @p cross_shear is given), kept for interval_depth() and
+     * node_fields(). Nothing by default.
      */
     virtual void
-    analyse_cycle(const CycleSliding &sliding);
+    analyse_cycle(const CycleSliding            &sliding,
+                  const std::vector<CrossShear> &cross_shear);
 
     /**
      * Phase 2: the wear depth (mm) of node @p j over interval @p i of the
