@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // This file is part of tkr-wear.
 
+#include <tkr/base/atomic_file.h>
 #include <tkr/base/exceptions.h>
 #include <tkr/base/mpi.h>
 #include <tkr/output/summary.h>
@@ -60,6 +61,16 @@ namespace TKR::Output
       out << std::setprecision(12) << value;
       return out.str();
     }
+
+    std::string
+    object(const Summary::Record &record)
+    {
+      std::string json = "{";
+      for (unsigned int i = 0; i < record.size(); ++i)
+        json += (i > 0 ? ", " : "") + json_string(record[i].first) + ": " +
+                number(record[i].second);
+      return json + "}";
+    }
   } // namespace
 
   void
@@ -69,17 +80,17 @@ namespace TKR::Output
   }
 
   void
+  Summary::set(const std::string &key, const Record &record)
+  {
+    set_raw(key, object(record));
+  }
+
+  void
   Summary::set(const std::string &key, const std::vector<Record> &records)
   {
     std::string json = "[";
     for (unsigned int r = 0; r < records.size(); ++r)
-      {
-        json += (r > 0 ? ", {" : "{");
-        for (unsigned int i = 0; i < records[r].size(); ++i)
-          json += (i > 0 ? ", " : "") + json_string(records[r][i].first) +
-                  ": " + number(records[r][i].second);
-        json += "}";
-      }
+      json += (r > 0 ? ", " : "") + object(records[r]);
     set_raw(key, json + "]");
   }
 
@@ -133,15 +144,8 @@ namespace TKR::Output
   Summary::write(const std::string &directory,
                  const MPI_Comm     mpi_communicator) const
   {
-    on_root(
-      [&]() {
-        const std::string filename = directory + "/summary.json";
-        std::ofstream     out(filename);
-        AssertThrow(out.good(),
-                    ExcInputError("Cannot write <" + filename + ">."));
-        out << to_json();
-      },
-      mpi_communicator);
+    on_root([&]() { write_atomically(directory + "/summary.json", to_json()); },
+            mpi_communicator);
   }
 
   void

@@ -89,6 +89,29 @@ namespace TKR::Output
   }
 
   void
+  write_run_result(const Wear::RunResult &result, Summary &summary)
+  {
+    for (const auto &[key, value] : result.named_values())
+      summary.set(key, value);
+    if (!result.run_in.empty())
+      {
+        // The run-in factor's points, for mass_loss.png (scripts/plot-wear).
+        std::vector<Summary::Record> points;
+        for (const auto &[cycles, factor] : result.run_in)
+          points.push_back({{"cycles", cycles}, {"factor", factor}});
+        summary.set("run_in_factor", points);
+      }
+    std::vector<Summary::Record> failed;
+    for (const auto &f : result.failed_steps)
+      failed.push_back({{"block", f.block},
+                        {"step", f.step},
+                        {"pose_residual_mm", f.pose_residual},
+                        {"contact_converged", f.contact_converged ? 1. : 0.},
+                        {"load_balance", f.load_balance}});
+    summary.set("unconverged_steps", failed);
+  }
+
+  void
   write_wear_history(const std::string                    &directory,
                      const std::vector<Wear::BlockResult> &rows,
                      const bool                            testing,

@@ -26,7 +26,8 @@ namespace TKR::Problems
 
   namespace
   {
-    /** The results of a case's summary.json that study.csv lists. */
+    /** The results of a case (Wear::RunResult::named_values(), kept in
+     *  its status.json) that study.csv lists. */
     const std::vector<std::string> result_keys = {"mass_loss_mg",
                                                   "volume_loss_mm3",
                                                   "wear_area_percent",
@@ -49,25 +50,34 @@ namespace TKR::Problems
       return out + "\"";
     }
 
-    /** A flat JSON file as key -> value text ({} if absent or broken). */
-    std::map<std::string, std::string>
-    read_flat_json(const std::string &filename)
+    /** A case's status.json: its fields and its results (the text of
+     *  each value), both empty if the file is absent or broken. */
+    struct CaseStatus
     {
-      std::map<std::string, std::string> values;
+      std::map<std::string, std::string> fields, results;
+    };
+
+    CaseStatus
+    read_case_status(const std::string &filename)
+    {
+      CaseStatus status;
       if (!std::filesystem::exists(filename))
-        return values;
+        return status;
       try
         {
           boost::property_tree::ptree tree;
           boost::property_tree::read_json(filename, tree);
           for (const auto &[key, node] : tree)
-            values[key] = node.get_value<std::string>();
+            status.fields[key] = node.get_value<std::string>();
+          if (const auto results = tree.get_child_optional("results"))
+            for (const auto &[key, node] : *results)
+              status.results[key] = node.get_value<std::string>();
         }
       catch (const std::exception &)
         {
-          values.clear();
+          status = CaseStatus();
         }
-      return values;
+      return status;
     }
 
     /**
@@ -333,13 +343,14 @@ namespace TKR::Problems
     const std::string status_file = directory + "/status.json";
     bool              skip        = false;
     if (group.is_group_root)
-      skip = resume && !read_flat_json(status_file).empty();
+      skip = resume && !read_case_status(status_file).fields.empty();
     if (Utilities::MPI::broadcast(group.communicator, skip, 0))
       return;
 
-    const double start   = MPI_Wtime();
-    std::string  status  = "done", reason;
-    bool         resumed = false;
+    const double            start   = MPI_Wtime();
+    std::string             status  = "done", reason;
+    bool                    resumed = false;
+    Output::Summary::Record results;
     {
       CaseOutput output(directory + "/log.txt", group.is_group_root);
       try
@@ -373,7 +384,9 @@ namespace TKR::Problems
           resumed =
             resume && std::filesystem::exists(directory + "/checkpoint.h5");
           WearProblem problem(case_parameters, group.communicator, resumed);
-          if (!problem.run())
+          const bool  converged = problem.run();
+          results               = problem.result().named_values();
+          if (!converged)
             {
               status = "failed";
               reason = "a contact solve, pose iteration or load balance did "
@@ -417,22 +430,27 @@ namespace TKR::Problems
     const double wall_time = MPI_Wtime() - start;
     if (!group.is_group_root)
       return;
-    std::ostringstream json;
-    json << "{\n  \"case\": " << Output::json_string(cases[index].name)
-         << ",\n  \"status\": " << Output::json_string(status)
-         << ",\n  \"reason\": " << Output::json_string(reason)
-         << ",\n  \"resumed\": " << (resumed ? "true" : "false")
-         << ",\n  \"wall_time_s\": " << wall_time << "\n}\n";
-    write_atomically(status_file, json.str());
+    // The case's status and, if it is done, its results: what the study's
+    // table is written from (output_results()).
+    Output::Summary json;
+    json.set("case", cases[index].name);
+    json.set("status", status);
+    json.set("reason", reason);
+    json.set("resumed", resumed);
+    json.set("wall_time_s", wall_time);
+    if (status == "done")
+      json.set("results", results);
+    write_atomically(status_file, json.to_json());
     if (!parameters.output.testing)
       {
-        const auto summary = read_flat_json(directory + "/summary.json");
         std::ostringstream line;
         line << cases[index].name << " " << status << " in " << std::fixed
              << std::setprecision(1) << wall_time << " s (group " << group.index
              << ")";
-        if (summary.count("mass_loss_mg"))
-          line << ": mass loss " << summary.at("mass_loss_mg") << " mg";
+        for (const auto &[key, value] : results)
+          if (key == "mass_loss_mg")
+            line << ": mass loss " << std::defaultfloat << std::setprecision(12)
+                 << value << " mg";
         std::cout << line.str() + "\n" << std::flush;
       }
   }
@@ -467,11 +485,21 @@ namespace TKR::Problems
     unsigned int n_failed = 0;
     for (unsigned int i = 0; i < cases.size(); ++i)
       {
-        const std::string directory = case_directory(i);
-        auto              status  = read_flat_json(directory + "/status.json");
-        auto              summary = read_flat_json(directory + "/summary.json");
+        const std::string status_file = case_directory(i) + "/status.json";
+        const CaseStatus  read        = read_case_status(status_file);
+        auto              status      = read.fields;
         if (status.empty())
           status = {{"status", "failed"}, {"reason", "not run"}};
+        // A done case without one of its results (a status.json of an
+        // older tkr-wear, or edited) is an error of that case, by name.
+        for (const std::string &key : result_keys)
+          if (status["status"] == "done" && read.results.count(key) == 0)
+            status = {{"status", "failed"},
+                      {"reason",
+                       "<" + status_file + "> has no result " + key +
+                         ": run the case again (delete the file and "
+                         "--resume the study)"},
+                      {"wall_time_s", status["wall_time_s"]}};
         if (status["status"] != "done")
           ++n_failed;
         csv << cases[i].name;
@@ -491,7 +519,7 @@ namespace TKR::Problems
         for (const std::string &key : result_keys)
           {
             const std::string value =
-              status["status"] == "done" ? summary[key] : "";
+              status["status"] == "done" ? read.results.at(key) : "";
             csv << "," << value;
             if (!value.empty())
               json << ", " << Output::json_string(key) << ": " << value;
@@ -511,7 +539,8 @@ namespace TKR::Problems
             std::cout << "  " << cases[i].inputs[j].first << " = "
                       << cases[i].inputs[j].second;
         if (status["status"] == "done")
-          std::cout << "  mass loss " << summary["mass_loss_mg"] << " mg";
+          std::cout << "  mass loss " << read.results.at("mass_loss_mg")
+                    << " mg";
         else
           std::cout << "  (" << status["reason"] << ")";
         std::cout << std::endl;

@@ -7,6 +7,7 @@
 #include <tkr/output/checkpoint.h>
 #include <tkr/output/wear_output.h>
 #include <tkr/problems/wear_problem.h>
+#include <tkr/wear/run_result.h>
 #include <tkr/wear/sliding.h>
 
 #include <algorithm>
@@ -30,6 +31,7 @@ namespace TKR::Problems
     , cycle(model, groups)
     , motion(model.geometry(), groups.communicator, model.timer())
     , law(Wear::create_wear_law(parameters.wear))
+    , progress(parameters.output.directory, model.world())
   {}
 
   void
@@ -76,7 +78,6 @@ namespace TKR::Problems
     const auto              &reports = cycle.get_reports();
     const Wear::CycleSliding sliding(cycle.get_records());
     cycle_wear    = law->cycle_wear(sliding);
-    cross_shear   = Wear::cycle_cross_shear(sliding);
     peak_pressure = max_contact_area = 0;
     unsigned int n_newton = 0, n_solves = 0, n_converged = 0;
     for (const auto &r : reports)
@@ -203,10 +204,15 @@ namespace TKR::Problems
     const auto &parameters = model.parameters();
     const auto &wear       = parameters.wear;
     // The surface the cycle wore (moving it updates the geometry's).
-    const auto  measures = model.geometry().worn_surface_measures();
-    const auto &surface  = model.geometry().worn_surface().nodes();
-    block_areas          = measures.area;
-    block_medial         = medial_nodes();
+    const auto          measures = model.geometry().worn_surface_measures();
+    const auto         &surface  = model.geometry().worn_surface().nodes();
+    const auto         &x        = model.geometry().vertex_positions();
+    std::vector<double> medial_lateral;
+    for (const auto &node : surface)
+      medial_lateral.push_back(x[node.vertex][0]);
+    sides = Wear::SurfaceSides(medial_lateral,
+                               parameters.gait.medial_direction,
+                               measures.area);
     const std::vector<Tensor<1, 3>> displacement =
       model.geometry().vertex_displacements();
     for (;;)
@@ -232,7 +238,8 @@ namespace TKR::Problems
               effective *
               Wear::measure_wear(cycle_wear.depth, measures.area, 0.).volume;
             for (unsigned int j = 0; j < surface.size(); ++j)
-              (block_medial[j] ? state.volume_medial : state.volume_lateral) +=
+              (sides.medial()[j] ? state.volume_medial :
+                                   state.volume_lateral) +=
                 effective * cycle_wear.depth[j] * measures.area[j];
             state.cycles += n;
             ++state.block;
@@ -275,62 +282,6 @@ namespace TKR::Problems
     return message.str();
   }
 
-  double
-  WearProblem::mean_cross_shear(const std::vector<bool> &select,
-                                const bool               value) const
-  {
-    double weighted = 0, weight = 0;
-    if (block_areas.size() != cross_shear.size())
-      return 0.;
-    for (unsigned int j = 0; j < cross_shear.size(); ++j)
-      {
-        if (!select.empty() && select[j] != value)
-          continue;
-        const double w = cross_shear[j].work * block_areas[j];
-        weighted += w * cross_shear[j].ratio;
-        weight += w;
-      }
-    return weight > 0 ? weighted / weight : 0.;
-  }
-
-  std::vector<bool>
-  WearProblem::medial_nodes() const
-  {
-    const auto &surface = model.geometry().worn_surface().nodes();
-    const auto &x       = model.geometry().vertex_positions();
-    double      lo = std::numeric_limits<double>::max(), hi = -lo;
-    for (const auto &node : surface)
-      {
-        lo = std::min(lo, x[node.vertex][0]);
-        hi = std::max(hi, x[node.vertex][0]);
-      }
-    std::vector<bool> medial;
-    for (const auto &node : surface)
-      medial.push_back((x[node.vertex][0] - 0.5 * (lo + hi)) *
-                         model.parameters().gait.medial_direction >
-                       0);
-    return medial;
-  }
-
-  Wear::SideResult
-  WearProblem::side_result(const std::vector<double> &node_depth,
-                           const bool                 on_medial,
-                           const double               volume) const
-  {
-    std::vector<double> depth = node_depth;
-    for (unsigned int j = 0; j < depth.size(); ++j)
-      if (block_medial[j] != on_medial)
-        depth[j] = 0;
-    const auto measures =
-      Wear::measure_wear(depth,
-                         block_areas,
-                         model.parameters().wear.wear_area_threshold);
-    return {volume,
-            measures.max_depth,
-            measures.worn_percent(),
-            mean_cross_shear(block_medial, on_medial)};
-  }
-
   void
   WearProblem::finish_block(const double block_wall_time)
   {
@@ -341,23 +292,28 @@ namespace TKR::Problems
     std::vector<double> node_depth(surface.size());
     for (unsigned int j = 0; j < surface.size(); ++j)
       node_depth[j] = depth[surface[j].vertex];
-    const auto measures =
-      Wear::measure_wear(node_depth,
-                         block_areas,
-                         parameters.wear.wear_area_threshold);
+    const double threshold = parameters.wear.wear_area_threshold;
+    const auto   measures =
+      Wear::measure_wear(node_depth, sides.areas(), threshold);
+    const auto side = [&](const bool medial, const double volume) {
+      return sides.side_result(node_depth,
+                               medial,
+                               volume,
+                               threshold,
+                               cycle_wear.cross_shear);
+    };
     const double wall_time = state.wall_time + model.wall_time();
-    state.history.push_back(
-      {state.block,
-       state.cycles,
-       state.volume,
-       parameters.materials.tibia.density * state.volume,
-       measures.max_depth,
-       measures.worn_percent(),
-       peak_pressure,
-       max_contact_area,
-       wall_time,
-       side_result(node_depth, true, state.volume_medial),
-       side_result(node_depth, false, state.volume_lateral)});
+    state.history.push_back({state.block,
+                             state.cycles,
+                             state.volume,
+                             parameters.materials.tibia.density * state.volume,
+                             measures.max_depth,
+                             measures.worn_percent(),
+                             peak_pressure,
+                             max_contact_area,
+                             wall_time,
+                             side(true, state.volume_medial),
+                             side(false, state.volume_lateral)});
     Output::write_wear_history(output.directory,
                                state.history,
                                output.testing,
@@ -371,25 +327,16 @@ namespace TKR::Problems
   void
   WearProblem::report_progress(const double block_wall_time) const
   {
-    const auto        &parameters = model.parameters();
-    const auto        &last       = state.history.back();
     const unsigned int n_blocks =
-      state.block + std::ceil((parameters.wear.cycles - state.cycles) /
+      state.block + std::ceil((model.parameters().wear.cycles - state.cycles) /
                                 state.cycles_per_block -
                               1e-9);
-    std::ostringstream line;
-    line << "Block " << std::setw(4) << state.block << "/" << n_blocks << ": "
-         << std::setw(9) << state.cycles << " cycles, mass loss " << last.mass
-         << " mg, max depth " << 1e3 * last.max_depth << " um, wear area "
-         << last.wear_area_percent << " %";
-    if (!parameters.output.testing)
-      {
-        const double remaining = (n_blocks - state.block) * block_wall_time;
-        line << ", " << std::fixed << std::setprecision(1) << block_wall_time
-             << " s/block, ETA " << std::setprecision(0) << remaining / 60.
-             << " min";
-      }
-    say_progress(line.str());
+    progress.block(state.block,
+                   n_blocks,
+                   state.cycles,
+                   state.history.back(),
+                   block_wall_time,
+                   model.parameters().output.testing);
   }
 
   // The tibia in its worn geometry with the accumulated depth, the wear
@@ -421,8 +368,9 @@ namespace TKR::Problems
        per_vertex([&](const unsigned int j) { return peak.pressure[j]; })},
       {"cycle_slip_mm",
        per_vertex([&](const unsigned int j) { return cycle_wear.slip[j]; })},
-      {"cross_shear",
-       per_vertex([&](const unsigned int j) { return cross_shear[j].ratio; })}};
+      {"cross_shear", per_vertex([&](const unsigned int j) {
+         return cycle_wear.cross_shear[j].ratio;
+       })}};
     for (const auto &[name, values] : cycle_wear.fields)
       fields.emplace_back(name,
                           per_vertex(
@@ -457,6 +405,38 @@ namespace TKR::Problems
                   << std::endl;
   }
 
+  Wear::RunResult
+  WearProblem::result() const
+  {
+    const auto     &parameters = model.parameters();
+    Wear::RunResult result;
+    result.history             = state.history;
+    result.cycles              = state.cycles;
+    result.blocks              = state.block;
+    result.density             = parameters.materials.tibia.density;
+    result.wear_area_threshold = parameters.wear.wear_area_threshold;
+    // A run resumed at its end computes no cycle.
+    result.has_cross_shear   = !cycle_wear.cross_shear.empty();
+    result.mean_cross_shear  = sides.mean_cross_shear(cycle_wear.cross_shear);
+    result.max_pressure      = state.max_pressure;
+    result.steps             = state.steps;
+    result.contact_solves    = state.contact_solves;
+    result.newton_iterations = state.newton_iterations;
+    result.pose_fallbacks    = state.pose_fallbacks;
+    result.cycles_per_block  = state.cycles_per_block;
+    result.first_cycle_mass  = state.first_cycle_mass;
+    result.linear_extrapolation_mass =
+      state.first_cycle_mass * law->effective_cycles(0, parameters.wear.cycles);
+    if (const auto &run_in = law->get_run_in(); !run_in.empty())
+      result.run_in = run_in.points();
+    result.stiffness_update_interval =
+      parameters.wear.stiffness_update_interval;
+    result.step_groups  = groups.n_groups;
+    result.failed_steps = state.failed_steps;
+    result.converged    = state.converged;
+    return result;
+  }
+
   void
   WearProblem::output_results()
   {
@@ -469,73 +449,18 @@ namespace TKR::Problems
     if (output.vtu_interval > 0)
       cycle.output_steps(cycle_wear);
     std::vector<double> ratio;
-    for (const auto &cs : cross_shear)
+    for (const auto &cs : cycle_wear.cross_shear)
       ratio.push_back(cs.ratio);
     Output::write_wear_map(output.directory,
                            model.geometry().worn_surface(),
                            model.geometry(),
                            ratio,
                            model.world());
-
-    const auto &last    = state.history.back();
-    auto       &summary = model.summary();
-    summary.set("cycles", state.cycles);
-    summary.set("blocks", state.block);
-    summary.set("mass_loss_mg", last.mass);
-    summary.set("volume_loss_mm3", last.volume);
-    summary.set("max_wear_depth_mm", last.max_depth);
-    summary.set("wear_area_percent", last.wear_area_percent);
-    summary.set("wear_area_threshold_mm", parameters.wear.wear_area_threshold);
-    if (!cross_shear.empty()) // a resumed run computes a cycle
-      summary.set("mean_cross_shear", mean_cross_shear());
-    for (const auto &[side, result] :
-         {std::pair{"medial", last.medial}, std::pair{"lateral", last.lateral}})
-      {
-        const std::string prefix(side);
-        summary.set(prefix + "_volume_loss_mm3", result.volume);
-        summary.set(prefix + "_mass_loss_mg",
-                    parameters.materials.tibia.density * result.volume);
-        summary.set(prefix + "_max_wear_depth_mm", result.max_depth);
-        summary.set(prefix + "_wear_area_percent", result.wear_area_percent);
-        summary.set(prefix + "_mean_cross_shear", result.mean_cross_shear);
-      }
-    summary.set("max_pressure_MPa", state.max_pressure);
-    summary.set("steps", static_cast<unsigned long long>(state.steps));
-    summary.set("contact_solves",
-                static_cast<unsigned long long>(state.contact_solves));
-    summary.set("mean_newton_iterations",
-                double(state.newton_iterations) / state.contact_solves);
-    summary.set("pose_fallbacks",
-                static_cast<unsigned long long>(state.pose_fallbacks));
-    summary.set("cycles_per_extrapolation_step", state.cycles_per_block);
-    summary.set("first_cycle_mass_loss_mg_per_million_cycles",
-                1e6 * state.first_cycle_mass);
-    summary.set("linear_extrapolation_mass_loss_mg",
-                state.first_cycle_mass *
-                  law->effective_cycles(0, parameters.wear.cycles));
-    if (const auto &run_in = law->get_run_in(); !run_in.empty())
-      {
-        // The run-in factor's points, for mass_loss.png (scripts/plot-wear).
-        std::vector<Output::Summary::Record> points;
-        for (const auto &[cycles, factor] : run_in.points())
-          points.push_back({{"cycles", cycles}, {"factor", factor}});
-        summary.set("run_in_factor", points);
-      }
-    summary.set("stiffness_update_interval",
-                parameters.wear.stiffness_update_interval);
-    summary.set("step_groups", groups.n_groups);
-    std::vector<Output::Summary::Record> failed;
-    for (const auto &f : state.failed_steps)
-      failed.push_back({{"block", f.block},
-                        {"step", f.step},
-                        {"pose_residual_mm", f.pose_residual},
-                        {"contact_converged", f.contact_converged ? 1. : 0.},
-                        {"load_balance", f.load_balance}});
-    summary.set("unconverged_steps", failed);
+    Output::write_run_result(result(), model.summary());
     if (output.plots)
       {
         // The summary is written by finish(); the plots read it.
-        summary.write(output.directory, model.world());
+        model.summary().write(output.directory, model.world());
         const std::string error =
           Output::make_plots(output.directory,
                              output.measured_mass_loss_file,
@@ -614,35 +539,7 @@ namespace TKR::Problems
     output_results();
     const bool converged = model.finish(state.converged);
     if (!converged)
-      report_failure();
+      progress.failure(state.failed_steps);
     return converged;
-  }
-
-  // The last line of the screen and of progress.log.
-  void
-  WearProblem::report_failure() const
-  {
-    std::ostringstream line;
-    line << "tkr-wear: " << state.failed_steps.size()
-         << " gait step(s) over the blocks did not converge or failed their "
-            "load balance (summary.json lists them as unconverged_steps, "
-            "the first in block "
-         << (state.failed_steps.empty() ? 0 : state.failed_steps[0].block)
-         << ", step "
-         << (state.failed_steps.empty() ? 0 : state.failed_steps[0].step)
-         << "): these results are not converged, exit code 1.";
-    say_progress(line.str());
-  }
-
-  void
-  WearProblem::say_progress(const std::string &line) const
-  {
-    model.pcout() << line << std::endl;
-    if (Utilities::MPI::this_mpi_process(model.world()) == 0)
-      {
-        std::ofstream log(model.parameters().output.directory + "/progress.log",
-                          std::ios::app);
-        log << line << std::endl;
-      }
   }
 } // namespace TKR::Problems

@@ -38,6 +38,10 @@ namespace TKR::Output
     /** One record: named numbers, in their order. */
     using Record = std::vector<std::pair<std::string, double>>;
 
+    /** A record, written as an object. */
+    void
+    set(const std::string &key, const Record &record);
+
     /** A list of records, written as an array of objects. */
     void
     set(const std::string &key, const std::vector<Record> &records);
@@ -46,7 +50,8 @@ namespace TKR::Output
     std::string
     to_json() const;
 
-    /** Write `directory/summary.json` on rank 0 of @p mpi_communicator. */
+    /** Write `directory/summary.json` on rank 0 of @p mpi_communicator
+     *  (atomically: a reader never sees half a file). */
     void
     write(const std::string &directory, const MPI_Comm mpi_communicator) const;
 

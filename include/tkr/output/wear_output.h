@@ -13,7 +13,9 @@
 #include <tkr/gait/step_report.h>
 #include <tkr/geometry/worn_geometry.h>
 #include <tkr/mortar/contact_surface.h>
+#include <tkr/output/summary.h>
 #include <tkr/output/vtu_output.h>
+#include <tkr/wear/run_result.h>
 #include <tkr/wear/wear_state.h>
 
 #include <string>
@@ -58,6 +60,14 @@ namespace TKR::Output
                      const std::vector<Wear::BlockResult> &rows,
                      const bool                            testing,
                      const MPI_Comm                        mpi_communicator);
+
+  /**
+   * A wear run's @p result into @p summary (summary.json, doc/output.md):
+   * its named values, the run-in factor's points (run_in_factor) if it
+   * has one, and the failed steps (unconverged_steps).
+   */
+  void
+  write_run_result(const Wear::RunResult &result, Summary &summary);
 
   /** What the VTU file of a gait step shows besides the solution. */
   struct StepFields

@@ -6,10 +6,13 @@
 
 #include <tkr/base/mpi.h>
 #include <tkr/geometry/mesh_motion.h>
+#include <tkr/output/progress.h>
 #include <tkr/output/vtu_output.h>
 #include <tkr/problems/gait_cycle.h>
 #include <tkr/problems/two_body_model.h>
 #include <tkr/wear/cross_shear.h>
+#include <tkr/wear/run_result.h>
+#include <tkr/wear/surface_sides.h>
 #include <tkr/wear/wear_law.h>
 #include <tkr/wear/wear_state.h>
 
@@ -54,6 +57,13 @@ namespace TKR::Problems
     /** Run; returns true if every contact solve of every block converged. */
     bool
     run();
+
+    /**
+     * The run's result (after run(); doc/output.md): what summary.json and
+     * wear_history.csv are written from and what a study reads.
+     */
+    Wear::RunResult
+    result() const;
 
     /** Wear depth per tibia_contact node of the last block's cycle (mm). */
     const std::vector<double> &
@@ -103,30 +113,6 @@ namespace TKR::Problems
                        const Geometry::Distortion &distortion,
                        const std::vector<double>  &increment) const;
 
-    /**
-     * The mean cross-shear of the last block's cycle over the tibia_contact
-     * nodes (those j with @p select[j] == @p value if @p select is given),
-     * weighted by each node's frictional work times its area (where the
-     * insert wears by Archard's law), 0 if nothing slid.
-     */
-    double
-    mean_cross_shear(const std::vector<bool> &select = {},
-                     const bool               value  = true) const;
-
-    /**
-     * Whether each tibia_contact node lies on the medial side: beyond the
-     * middle of the nodes' x range towards `Gait/Medial side`.
-     */
-    std::vector<bool>
-    medial_nodes() const;
-
-    /** The block's medial or lateral result (block_medial): the side's
-     *  share of the accumulated depth @p node_depth and of the last cycle. */
-    Wear::SideResult
-    side_result(const std::vector<double> &node_depth,
-                const bool                 on_medial,
-                const double               volume) const;
-
     /** History row, progress line, worn tibia VTU, checkpoint. */
     void
     finish_block(const double block_wall_time);
@@ -147,14 +133,6 @@ namespace TKR::Problems
     void
     output_results();
 
-    /** The last line of a run that did not converge (and progress.log). */
-    void
-    report_failure() const;
-
-    /** A line on the screen and at the end of progress.log (rank 0). */
-    void
-    say_progress(const std::string &line) const;
-
     const bool                     resume;
     const StepGroups               groups;
     TwoBodyModel                   model;
@@ -164,18 +142,14 @@ namespace TKR::Problems
     Wear::WearRunState             state;
     /** The wear of the last block's cycle. */
     Wear::CycleWear cycle_wear;
-    /** The cross-shear of every tibia_contact node in the last block's
-     *  cycle (whatever the law). */
-    std::vector<Wear::CrossShear> cross_shear;
+    /** The progress lines (screen and progress.log). */
+    Output::Progress progress;
     /**
      * The nodal areas of the worn surface on which the last block's cycle
-     * was solved (before the block's wear moved it): the block's volume
-     * and wear area are measured on them.
+     * was solved (before the block's wear moved it: the block's volume and
+     * wear area are measured on them) and its medial and lateral nodes.
      */
-    std::vector<double> block_areas;
-    /** Whether each of those nodes is medial (medial_nodes()), for the
-     *  block's medial and lateral results. */
-    std::vector<bool> block_medial;
+    Wear::SurfaceSides sides;
     /** The converged steps of the last cycle that failed the balance. */
     std::vector<unsigned int> unbalanced_steps;
     /** The block's statistics: peak pressure, largest contact area. */

@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#ifndef tkr_wear_run_result_h
+#define tkr_wear_run_result_h
+
+#include <tkr/wear/wear_state.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace TKR::Wear
+{
+  /**
+   * The result of a wear run (`Problem = wear`), the one record that
+   * summary.json, wear_history.csv and a study's table (study.csv,
+   * study.json) are written from; doc/output.md is its schema. The
+   * scalar results have the names of summary.json (named_values()); a
+   * study asks for them by name (value()).
+   */
+  struct RunResult
+  {
+    /** One row per block (wear_history.csv), the last is the run's end. */
+    std::vector<BlockResult> history;
+    /** Cycles run, blocks. */
+    double       cycles = 0;
+    unsigned int blocks = 0;
+    /** The insert's density (mg/mm^3), for the sides' mass. */
+    double density = 0;
+    /** `Wear/Wear area threshold` (mm). */
+    double wear_area_threshold = 0;
+    /** The work-weighted mean cross-shear of the last computed cycle; a
+     *  run resumed at its end computes none (has_cross_shear false). */
+    bool   has_cross_shear  = false;
+    double mean_cross_shear = 0;
+    /** The largest contact pressure of all steps (MPa). */
+    double max_pressure = 0;
+    /** Step solves and the solver's effort over all blocks. */
+    unsigned long long steps = 0, contact_solves = 0, newton_iterations = 0,
+                       pose_fallbacks = 0;
+    /** The last block's n_Delta (cycles). */
+    double cycles_per_block = 0;
+    /** The first cycle's mass loss (mg) and its linear extrapolation to
+     *  `Wear/Cycles` with the run-in (mg). */
+    double first_cycle_mass = 0, linear_extrapolation_mass = 0;
+    /** The run-in factor's points (cycles, factor); empty without one. */
+    std::vector<std::pair<double, double>> run_in;
+    /** `Wear/Stiffness update interval`, the step groups. */
+    unsigned int stiffness_update_interval = 0, step_groups = 1;
+    /** The steps that did not converge or failed their load balance. */
+    std::vector<FailedStep> failed_steps;
+    /** Every step converged and balanced. */
+    bool converged = true;
+
+    /**
+     * The scalar results, named as in summary.json and in the order of
+     * that file (doc/output.md): the run's end, each side's, the solver's
+     * counts, the first cycle's.
+     */
+    std::vector<std::pair<std::string, double>>
+    named_values() const;
+
+    /**
+     * The scalar result @p key of named_values(); an ExcInputError naming
+     * @p key and the known names if there is none.
+     */
+    double
+    value(const std::string &key) const;
+  };
+} // namespace TKR::Wear
+
+#endif
