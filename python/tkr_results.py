@@ -30,6 +30,9 @@ is documented, with its type, for the problem or protocol that wrote it):
 
     problems = tkr_results.check_file(path)      # [] when all is right
 
+An uncaught ResultError ends a program that imported this module with its
+one line on stderr and exit code 1, without a traceback (sys.excepthook).
+
 Command line (exit 1 with one line `tkr_results: error: ...`):
 
     python3 python/tkr_results.py get FILE KEY   print one value of a JSON
@@ -248,6 +251,23 @@ CSV_FILES = {
 class ResultError(Exception):
     """A result file that cannot be read as documented: the message is one
     line, `FILE[:LINE]: what`."""
+
+
+def _excepthook(kind, value, traceback, default=sys.excepthook):
+    """An uncaught ResultError: its line on stderr (exit code 1, as for any
+    uncaught exception), without a traceback; anything else as usual."""
+    if issubclass(kind, ResultError):
+        program = (
+            os.path.basename(sys.argv[0]) if sys.argv and sys.argv[0] not in ("", "-", "-c") else "python3"
+        )
+        print(f"{program}: error: {value}", file=sys.stderr)
+    else:
+        default(kind, value, traceback)
+
+
+# A script (or a python3 heredoc of a test) that does not catch ResultError
+# still ends with one line naming the file and the key.
+sys.excepthook = _excepthook
 
 
 # --------------------------------------------------------------------------

@@ -176,3 +176,11 @@ def test_stored_references_agree():
     files = tkr_results.result_files([os.path.join(ROOT, "tests", "app")])
     assert any(f.endswith("one_cycle.summary.json") for f in files)
     assert [p for f in files for p in tkr_results.check_file(f)] == []
+
+
+def test_uncaught_error_is_one_line(tmp_path):
+    code = "import sys; sys.path.insert(0, sys.argv[1]); import tkr_results; tkr_results.read_summary(sys.argv[2])"
+    missing = str(tmp_path / "summary.json")
+    result = subprocess.run([sys.executable, "-c", code, PYTHON_DIR, missing], capture_output=True, text=True)
+    assert result.returncode == 1
+    assert result.stderr == f"python3: error: {missing}: no such file\n"
