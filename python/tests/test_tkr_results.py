@@ -179,7 +179,10 @@ def test_stored_references_agree():
 
 
 def test_uncaught_error_is_one_line(tmp_path):
-    code = "import sys; sys.path.insert(0, sys.argv[1]); import tkr_results; tkr_results.read_summary(sys.argv[2])"
+    code = (
+        "import sys; sys.path.insert(0, sys.argv[1]); import tkr_results; "
+        "tkr_results.read_summary(sys.argv[2])"
+    )
     missing = str(tmp_path / "summary.json")
     result = subprocess.run([sys.executable, "-c", code, PYTHON_DIR, missing], capture_output=True, text=True)
     assert result.returncode == 1
