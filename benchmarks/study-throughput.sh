@@ -92,5 +92,7 @@ for i in range(8):
 print("summary.json (all numbers but timings): largest relative difference %.3g" % worst)
 assert worst <= 1e-9
 PY
-grep wall_time study/case-000*/status.json | sed 's/.*case-/case-/'
+for f in study/case-000*/status.json; do
+  echo "${f#study/}:  \"wall_time_s\": $(python3 "$root/python/tkr_results.py" get "$f" wall_time_s)"
+done
 echo "work directory: $work"
