@@ -82,10 +82,12 @@ report() {
     echo "$run: exit $code, no summary.json: $(tail -1 "$run.log")"
     return 1
   fi
-  /usr/bin/python3 - "$run" "$code" "$seconds" << 'EOF'
-import json, re, sys
+  /usr/bin/python3 - "$root/python" "$run" "$code" "$seconds" << 'EOF'
+import re, sys
+sys.path.insert(0, sys.argv.pop(1))
+import tkr_results
 run, code, seconds = sys.argv[1], int(sys.argv[2]), sys.argv[3]
-s = json.load(open(run + "/summary.json"))
+s = tkr_results.read_summary(run + "/summary.json")
 active = [int(a) for a in re.findall(r"^ +step +\d+ .*?(\d+) active", open(run + ".log").read(), re.M)]
 # a pose Newton step off the Newton direction is a fallback: none is allowed here (issue 33)
 ok = code == 0 and s["converged"] and not s["unconverged_steps"] and s.get("pose_fallbacks", 0) == 0

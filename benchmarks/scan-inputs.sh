@@ -58,7 +58,8 @@ for c in "${cases[@]}"; do
     printf 'include %s\ninclude %s\nsubsection Output\n  set Directory = %s\n  set VTU interval = 0\nend\n' \
       "$root/prm/one-cycle.prm" "$name.prm" "$name-cycle" > "$name-cycle.prm"
     "$wear" "$name-cycle.prm" > "$name-cycle.log" 2>&1; code=$?
-    line+="; one cycle: exit $code, $(grep -o "\"unconverged_steps\": \[[^]]*\]" "$name-cycle/summary.json"), $(grep -o "\"first_cycle_mass_loss_mg_per_million_cycles\": [0-9.]*" "$name-cycle/summary.json")"
+    get() { /usr/bin/python3 "$root/python/tkr_results.py" get "$name-cycle/summary.json" "$1"; }
+    line+="; one cycle: exit $code, \"unconverged_steps\": $(get unconverged_steps), \"first_cycle_mass_loss_mg_per_million_cycles\": $(get first_cycle_mass_loss_mg_per_million_cycles)"
   fi
   echo "$line"
 done

@@ -77,12 +77,14 @@ bash sequential-1.sh "$exe"
 for i in 0 1 2 3 4 5 6 7; do
   "$root/tests/scripts/compare-files.sh" --relative 1e-9 study/case-000$i alone/case-000$i steps.csv
 done
-python3 - << 'PY'
-import json
+python3 - "$root/python" << 'PY'
+import sys
+sys.path.insert(0, sys.argv[1])
+import tkr_results
 worst = 0.0
 for i in range(8):
-    a = json.load(open("study/case-000%d/summary.json" % i))
-    b = json.load(open("alone/case-000%d/summary.json" % i))
+    a = tkr_results.read_summary("study/case-000%d/summary.json" % i)
+    b = tkr_results.read_summary("alone/case-000%d/summary.json" % i)
     for key, value in a.items():
         if "time" in key or not isinstance(value, (int, float)):
             continue
@@ -90,5 +92,7 @@ for i in range(8):
 print("summary.json (all numbers but timings): largest relative difference %.3g" % worst)
 assert worst <= 1e-9
 PY
-grep wall_time study/case-000*/status.json | sed 's/.*case-/case-/'
+for f in study/case-000*/status.json; do
+  echo "${f#study/}:  \"wall_time_s\": $(python3 "$root/python/tkr_results.py" get "$f" wall_time_s)"
+done
 echo "work directory: $work"

@@ -23,7 +23,6 @@ Options: --build DIR (default build/release).
 """
 import argparse
 import datetime
-import json
 import math
 import os
 import re
@@ -33,6 +32,10 @@ import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# The readers of the result files (doc/output.md, "Result files").
+sys.path.insert(0, os.path.join(ROOT, "python"))
+import tkr_results  # noqa: E402
+
 TABLE_HEADER = """
 ## Benchmark log (appended by `benchmarks/wear-run.py`)
 
@@ -89,8 +92,7 @@ def finish(process, out, directory, log):
         text = f.read()
     if process.returncode != 0:
         sys.exit(f"the run failed (exit {process.returncode}); see {log}")
-    with open(os.path.join(directory, "summary.json")) as f:
-        summary = json.load(f)
+    summary = tkr_results.read_summary(os.path.join(directory, "summary.json"))
     blocks = [float(t) for t in re.findall(r"^Block .*?([0-9.]+) s/block", text, re.M)]
     first = re.search(r"contact solves: (\d+)", text)
     timers = {
@@ -286,4 +288,7 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except tkr_results.ResultError as e:  # a summary.json not as documented
+        sys.exit(f"wear-run.py: error: {e}")

@@ -66,9 +66,11 @@ run() {
   mpirun -np "$ranks" "$build/tkr-wear" "$prm" > "$results/$name.log" 2>&1 ||
     echo "   FAILED, see $results/$name.log"
   rm -f "$prm"
-  python3 - "$results/$name/summary.json" "$name" "tkr-$variant-$size" "$n_delta" "$law${run_in:+ $run_in}" >> "$results/studies.csv" <<'EOF'
-import json, sys
-s = json.load(open(sys.argv[1]))
+  python3 - "$root/python" "$results/$name/summary.json" "$name" "tkr-$variant-$size" "$n_delta" "$law${run_in:+ $run_in}" >> "$results/studies.csv" <<'EOF'
+import sys
+sys.path.insert(0, sys.argv.pop(1))
+import tkr_results
+s = tkr_results.read_summary(sys.argv[1])
 print(",".join(str(x) for x in [sys.argv[2], sys.argv[3], sys.argv[4], sys.argv[5], s["dofs"],
       s["blocks"], s["mass_loss_mg"], s["max_wear_depth_mm"], s["wear_area_percent"],
       s["medial_mass_loss_mg"], s["lateral_mass_loss_mg"], s.get("mean_cross_shear", ""),

@@ -23,8 +23,6 @@ Prints one line per check with O(1) numbers; exits 1 on the first failure.
 Reads deal.II's zlib-compressed, base64-encoded VTU files with numpy only.
 """
 import base64
-import csv
-import json
 import math
 import os
 import re
@@ -33,6 +31,10 @@ import zlib
 import xml.etree.ElementTree as ET
 
 import numpy as np
+
+# The readers of the result files (doc/output.md, "Result files").
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
+import tkr_results  # noqa: E402
 
 TYPES = {
     "Float32": np.float32,
@@ -116,11 +118,19 @@ def main():
         sys.exit(2)
     directory = sys.argv[1]
     axis_point = np.array([float(v) for v in re.split(r"[ ,]+", sys.argv[2].strip())])
-    with open(os.path.join(directory, "steps.csv")) as f:
-        steps = list(csv.DictReader(f))
-    with open(os.path.join(directory, "summary.json")) as f:
-        summary = json.load(f)
+    try:
+        steps = tkr_results.read_rows(
+            os.path.join(directory, "steps.csv"), ("max_pressure_MPa", "active_nodes", "flexion_deg")
+        )
+        summary = tkr_results.read_summary(os.path.join(directory, "summary.json"))
+        check(directory, axis_point, steps, summary)
+    except tkr_results.ResultError as e:  # a result file not as documented
+        fail(str(e))
 
+
+def check(directory, axis_point, steps, summary):
+    """The checks of the module's documentation on the run in @p directory
+    (steps: the rows of its steps.csv, summary: its summary.json)."""
     series = read_series(directory, "step")
     times = [int(round(t)) for t, _, _ in series]
     if times != list(range(len(steps))):

@@ -9,7 +9,9 @@
 # screen comparison of deal.II's tests (absolute 1e-6), this sees the small
 # numbers of summary.json and the CSV files (a wear volume of 1e-5 mm^3).
 # The solver's traces (iteration and solve counts) are left out on both
-# sides (without_traces.py).
+# sides (without_traces.py). Each file the run wrote must also agree with
+# the schema of doc/output.md: no key or column that is not documented
+# there (python/tkr_results.py check).
 set -u
 here=$(cd "$(dirname "$0")" && pwd)
 rel=1e-6
@@ -30,6 +32,11 @@ for file in "$@"; do
     echo "compare-files: the run did not write $dir/$file"
     status=1
     continue
+  fi
+  if ! python3 "$here/../../python/tkr_results.py" check "$dir/$file" > "$tmp/schema.txt"; then
+    echo "compare-files: $dir/$file does not agree with doc/output.md:"
+    cat "$tmp/schema.txt"
+    status=1
   fi
   if ! python3 "$here/without_traces.py" "$dir/$file" "$tmp/run.${file##*.}" ||
     ! python3 "$here/without_traces.py" "$reference" "$tmp/reference.${file##*.}"; then

@@ -19,6 +19,11 @@ import argparse
 import json
 import math
 import os
+import sys
+
+# The names of the result files' keys and columns (doc/output.md).
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
+import tkr_results  # noqa: E402
 
 DENSITY_MG_PER_MM3 = 0.935  # UHMWPE (DESIGN.md section 2)
 THRESHOLD_MM = 1e-4
@@ -74,12 +79,12 @@ def write(directory, nodes, depths, faces, history, summary, history_columns):
     os.makedirs(directory, exist_ok=True)
     with open(os.path.join(directory, "wear_map.csv"), "w") as f:
         # a made-up cross-shear, 0 .. 0.5 across the surface
-        f.write("x,y,z,depth_mm,cross_shear\n")
+        f.write(",".join(tkr_results.WEAR_MAP_COLUMNS) + "\n")
         for (x, y, z), d in zip(nodes, depths):
             cs = 0.25 + 0.2 * math.sin(0.1 * x) * math.cos(0.1 * y)
             f.write(f"{x:.6g},{y:.6g},{z:.6g},{d:.6g},{cs:.6g}\n")
     with open(os.path.join(directory, "wear_map_faces.csv"), "w") as f:
-        f.write("n0,n1,n2,n3\n")
+        f.write(",".join(tkr_results.WEAR_MAP_FACES_COLUMNS) + "\n")
         for face in faces:
             f.write(",".join(map(str, face)) + "\n")
     with open(os.path.join(directory, "wear_history.csv"), "w") as f:
@@ -130,7 +135,8 @@ def main():
             }
         )
     # Columns in a different order than the list in doc/output.md, and one
-    # extra column: plot-wear finds them by name and ignores the rest.
+    # extra column (pose_updates, not one of wear_history.csv): plot-wear
+    # finds them by name and ignores the rest.
     columns = [
         "block",
         "cycles",
@@ -153,6 +159,11 @@ def main():
         "wear_area_threshold_mm": THRESHOLD_MM,
         "converged": True,
     }
+    extra = [c for c in columns if c not in tkr_results.WEAR_HISTORY_COLUMNS]
+    assert extra == ["pose_updates"], extra
+    problems = tkr_results.check_summary_data(summary)
+    if problems:  # a key renamed in the schema and not here
+        raise SystemExit("make_synthetic_output: " + "; ".join(problems))
     write(arguments.directory, nodes, depths, faces, history, summary, columns)
 
 

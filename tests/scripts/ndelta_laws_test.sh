@@ -21,9 +21,13 @@ shift 2
 laws=("$@")
 [ "${#laws[@]}" -eq 0 ] && laws=(archard archard_cs area run-in)
 status=0
+# mass SUMMARY: its mass_loss_mg, or NOT-CONVERGED (python/tkr_results.py)
 mass() {
-  python3 -c "import json, sys; s = json.load(open(sys.argv[1])); \
-print(s['mass_loss_mg'] if s['converged'] else 'NOT-CONVERGED')" "$1"
+  if [ "$(python3 "$root/python/tkr_results.py" get "$1" converged)" = true ]; then
+    python3 "$root/python/tkr_results.py" get "$1" mass_loss_mg
+  else
+    echo NOT-CONVERGED
+  fi
 }
 for law in "${laws[@]}"; do
   masses=()

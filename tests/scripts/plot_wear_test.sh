@@ -73,9 +73,11 @@ check "--help exits 0" "$plot" --help >/dev/null
 
 echo "== a run with a run-in (summary.json's run_in_factor)"
 cp -r "$work/run" "$work/run_in"
-python3 - "$work/run_in/summary.json" <<'EOF2'
+python3 - "$root/python" "$work/run_in/summary.json" <<'EOF2'
 import json, sys
-summary = json.load(open(sys.argv[1]))
+sys.path.insert(0, sys.argv.pop(1))
+import tkr_results
+summary = tkr_results.load_json_object(sys.argv[1])
 summary["run_in_factor"] = [{"cycles": 0, "factor": 3}, {"cycles": 1e6, "factor": 1}]
 json.dump(summary, open(sys.argv[1], "w"))
 EOF2
@@ -87,10 +89,12 @@ check "run-in: mass_loss.png is a PNG" is_png "$work/run_in/mass_loss.png"
 differs() { ! cmp -s "$1" "$2"; }
 check "run-in: mass_loss.png differs from the run without" \
   differs "$work/run/mass_loss.png" "$work/run_in/mass_loss.png"
-python3 - "$work/run_in/summary.json" <<'EOF2'
+python3 - "$root/python" "$work/run_in/summary.json" <<'EOF2'
 import json, sys
-summary = json.load(open(sys.argv[1]))
-summary["run_in_factor"] = [{"cycles": "zero"}]
+sys.path.insert(0, sys.argv.pop(1))
+import tkr_results
+summary = tkr_results.load_json_object(sys.argv[1])
+summary["run_in_factor"] = [{"cycles": "zero"}]  # malformed on purpose
 json.dump(summary, open(sys.argv[1], "w"))
 EOF2
 "$plot" "$work/run_in" 2>"$work/stderr"

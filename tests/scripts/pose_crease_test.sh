@@ -26,19 +26,21 @@ subsection Output\n  set Directory = %s\n  set VTU interval = 0\nend\n' \
     "$root/prm/one-cycle.prm" knee.prm "$solver" "$solver" > "$solver.prm"
   "$wear" "$solver.prm" > "$solver.log" 2>&1
   grep "^  step" "$solver.log" | sed 's/, [0-9.]* s$//'
-  check "$solver: every step converged" grep -q '"unconverged_steps": \[\]' "$solver/summary.json"
+  check "$solver: every step converged" test "$($py "$root/python/tkr_results.py" get "$solver/summary.json" unconverged_steps)" = "[]"
 done
 agree() {
-  $py - <<'PY'
-import csv, json, sys
-rows = {s: list(csv.DictReader(open(s + "/steps.csv"))) for s in ("coupled", "outer")}
+  $py - "$root/python" <<'PY'
+import sys
+sys.path.insert(0, sys.argv[1])
+import tkr_results as r
+rows = {s: r.read_rows(s + "/steps.csv", ("step", "ap_position_mm", "ie_rotation_deg")) for s in ("coupled", "outer")}
 bad = 0
 for a, b in zip(rows["coupled"], rows["outer"]):
-    dy = abs(float(a["ap_position_mm"]) - float(b["ap_position_mm"]))
-    dt = abs(float(a["ie_rotation_deg"]) - float(b["ie_rotation_deg"]))
+    dy = abs(r.number(a, "ap_position_mm") - r.number(b, "ap_position_mm"))
+    dt = abs(r.number(a, "ie_rotation_deg") - r.number(b, "ie_rotation_deg"))
     print("step %s: |dy| %.4f mm, |dtheta| %.4f deg" % (a["step"], dy, dt))
     bad |= dy > 0.05 or dt > 0.1
-m = [json.load(open(s + "/summary.json"))["first_cycle_mass_loss_mg_per_million_cycles"] for s in ("coupled", "outer")]
+m = [r.read_summary(s + "/summary.json")["first_cycle_mass_loss_mg_per_million_cycles"] for s in ("coupled", "outer")]
 print("mass loss coupled %.6g, outer %.6g mg per 1e6 cycles" % tuple(m))
 sys.exit(bad or abs(m[0] / m[1] - 1) > 1e-3)
 PY

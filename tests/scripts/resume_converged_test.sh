@@ -9,6 +9,7 @@ set -u
 exe=$1
 prm=$2
 checkpoint=$3
+results=$(cd "$(dirname "$0")/../.." && pwd)/python/tkr_results.py
 rm -rf results
 mkdir -p results
 cp "$checkpoint" results/checkpoint.h5
@@ -25,6 +26,7 @@ if grep -q "NOT CONVERGED" resumed.log; then
   grep "NOT CONVERGED" resumed.log
   exit 1
 fi
-grep -q '"unconverged_steps": \[\]' results/summary.json ||
+unconverged=$(python3 "$results" get results/summary.json unconverged_steps) || exit 1
+[ "$unconverged" = "[]" ] ||
   { echo "FAIL: summary.json lists unconverged steps"; exit 1; }
 echo "ok: every step of the resumed blocks converged"

@@ -5,21 +5,26 @@
     without_traces.py IN OUT
 
 The iteration and solve counts of a run (JSON keys or CSV columns named in
-TRACES) say how the solver got there, not what it computed, so a better
-solver must not change a test's compared files. Other files are copied.
+tkr_results.TRACES, "a trace" in doc/output.md) say how the solver got
+there, not what it computed, so a better solver must not change a test's
+compared files. Other files are copied.
 """
 import csv
 import json
+import os
 import shutil
 import sys
 
-TRACES = {"contact_solves", "mean_newton_iterations", "newton_iterations", "cg_iterations", "pose_updates"}
+# The readers of the result files (doc/output.md, "Result files").
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
+import tkr_results  # noqa: E402
+
+TRACES = set(tkr_results.TRACES)
 
 
 def main(source, target):
     if source.endswith(".json"):
-        with open(source) as f:
-            data = json.load(f)
+        data = tkr_results.load_json_object(source)
         with open(target, "w") as f:
             json.dump({k: v for k, v in data.items() if k not in TRACES}, f, indent=2)
     elif source.endswith(".csv"):
@@ -35,4 +40,7 @@ def main(source, target):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1], sys.argv[2])
+    try:
+        main(sys.argv[1], sys.argv[2])
+    except tkr_results.ResultError as e:
+        sys.exit(f"without_traces: error: {e}")
