@@ -226,6 +226,7 @@ STATUS_JSON_KEYS = {
     "reason": "string",
     "resumed": "boolean",
     "wall_time_s": "number",
+    "results": "object",
 }
 
 # The solver's traces: iteration and solve counts say how the solver got
