@@ -249,7 +249,7 @@ namespace TKR::Gait
           contact_converged && rim * std::abs(motion.rotation_z) <= tolerance &&
           (std::abs(mean[0]) <= tolerance || x_bracketed) && z_done;
         if (!contact_converged || result.converged ||
-            result.n_updates + 1 >= TibiaPose::max_iterations)
+            result.n_updates + 1 >= PoseUpdate::max_solves)
           break;
         // x bracketed at a jump while z is not yet in equilibrium: z alone
         // moves, x stays on its side of the jump; by its correction, or to
@@ -282,29 +282,6 @@ namespace TKR::Gait
         ++result.n_updates;
       }
     return result;
-  }
-
-  void
-  DisplacementControl::Bracket::add(const double value, const double correction)
-  {
-    if (correction > 0)
-      low = value;
-    if (correction < 0)
-      high = value;
-  }
-
-  double
-  DisplacementControl::Bracket::width() const
-  {
-    return (std::isfinite(low) && std::isfinite(high) && low < high) ?
-             high - low :
-             std::numeric_limits<double>::infinity();
-  }
-
-  double
-  DisplacementControl::Bracket::middle() const
-  {
-    return 0.5 * (low + high);
   }
 
   // Nothing but the contact and the tray acts on the tibia along the

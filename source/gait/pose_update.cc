@@ -34,49 +34,6 @@ namespace TKR::Gait
     return lambda;
   }
 
-  void
-  PoseUpdate::Bracket::add(const double q, const double d)
-  {
-    const int sign = (d > 0) - (d < 0);
-    if (sign > 0)
-      {
-        has_low = true;
-        q_low   = q;
-        d_low   = d;
-      }
-    else if (sign < 0)
-      {
-        has_high = true;
-        q_high   = q;
-        d_high   = d;
-      }
-    if (sign != 0)
-      {
-        signs.push_back(sign);
-        if (signs.size() > 3)
-          signs.erase(signs.begin());
-      }
-  }
-
-  bool
-  PoseUpdate::Bracket::encloses() const
-  {
-    return has_low && has_high && q_low < q_high;
-  }
-
-  bool
-  PoseUpdate::Bracket::oscillates() const
-  {
-    return signs.size() == 3 && signs[0] != signs[1] && signs[1] != signs[2];
-  }
-
-  double
-  PoseUpdate::Bracket::false_position() const
-  {
-    const double t = std::clamp(d_low / (d_low - d_high), 0.25, 0.75);
-    return q_low + t * (q_high - q_low);
-  }
-
   bool
   PoseUpdate::stalled() const
   {
@@ -98,12 +55,10 @@ namespace TKR::Gait
     // A bracket much narrower than the correction asked for inside it no
     // longer holds the root (the other components moved it, or d jumps
     // there): back to the relaxed step.
-    if (active < n &&
-        (!brackets[active].encloses() ||
-         std::abs(brackets[active].q_high - brackets[active].q_low) <
-           1e-3 * std::abs(d[active])))
+    if (active < n && (!brackets[active].encloses() ||
+                       brackets[active].width() < 1e-3 * std::abs(d[active])))
       {
-        brackets[active].signs.clear();
+        brackets[active].forget_signs();
         active = n;
       }
     // Once the relaxed step stalls, bracket the component with the largest

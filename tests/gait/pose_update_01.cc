@@ -2,7 +2,7 @@
 // This file is part of tkr-wear.
 //
 // The update rule of the pose iteration (PoseUpdate) on functions with
-// known roots, iterated like TibiaPose::iterate() (at most 40 solves,
+// known roots, iterated like ForceControl::solve_pose() (at most 40 solves,
 // tolerance 0.001 on every component):
 // 1. a smooth, coupled, linear correction: the relaxed step converges and
 //    the bracket never engages;
@@ -54,7 +54,7 @@ namespace
         for (unsigned int i = 0; i < PoseUpdate::n; ++i)
           outcome.residual = std::max(outcome.residual, std::abs(d[i]));
         outcome.converged = outcome.residual <= 1e-3;
-        if (outcome.converged || outcome.solves >= 40)
+        if (outcome.converged || outcome.solves >= PoseUpdate::max_solves)
           break;
         q = update.next(q, d, d);
       }

@@ -104,7 +104,8 @@ namespace TKR::Gait
 
     /**
      * The tray's x and z from the mean displacement of the inferior surface
-     * (TibiaPose::iterate()'s update on these two components).
+     * (PoseUpdate's step and Bracket's safeguard on these two components,
+     * at most PoseUpdate::max_solves contact solves).
      */
     PoseSolve
     solve_pose(const StepInput    &input,
@@ -158,27 +159,6 @@ namespace TKR::Gait
     /** The gait state of @p input (no AP force or IE torque). */
     GaitState
     gait_state(const StepInput &input) const;
-
-    /**
-     * Of one pose component, the latest value at which the solve asked
-     * for more (low) and the latest at which it asked for less (high).
-     */
-    struct Bracket
-    {
-      double low  = -std::numeric_limits<double>::infinity();
-      double high = std::numeric_limits<double>::infinity();
-
-      /** Record a solve at @p value that asked for @p correction. */
-      void
-      add(const double value, const double correction);
-
-      /** high - low if low < high (a root or a jump between), else inf. */
-      double
-      width() const;
-
-      double
-      middle() const;
-    };
 
     /** Updates of the relaxed step before x is bisected in its bracket. */
     static constexpr unsigned int bisection_start = 10;

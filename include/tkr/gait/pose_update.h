@@ -6,13 +6,15 @@
 
 #include <deal.II/base/tensor.h>
 
+#include <tkr/gait/bracket.h>
+
 #include <array>
 #include <vector>
 
 namespace TKR::Gait
 {
   /**
-   * The update rule of the pose iteration (TibiaPose::iterate(),
+   * The update rule of the pose iteration (ForceControl::solve_pose(),
    * doc/gait.md "One step"), apart from the contact solves so that it can
    * be tested on functions with known roots.
    *
@@ -46,6 +48,12 @@ namespace TKR::Gait
     using Vector                    = dealii::Tensor<1, n>;
 
     /**
+     * The most contact solves of one step's pose iteration, in either
+     * protocol; a step that needs more ends not converged (loudly).
+     */
+    static constexpr unsigned int max_solves = 40;
+
+    /**
      * With @p safeguard = false only the relaxed step (the rule before
      * issue 18; for tests that show the difference).
      */
@@ -64,23 +72,6 @@ namespace TKR::Gait
     bracketed_ever() const;
 
   private:
-    struct Bracket
-    {
-      bool   has_low = false, has_high = false;
-      double q_low = 0, d_low = 0, q_high = 0, d_high = 0;
-      /** Signs of d at the last three poses (without zeros). */
-      std::vector<int> signs;
-
-      void
-      add(const double q, const double d);
-      bool
-      encloses() const;
-      bool
-      oscillates() const;
-      double
-      false_position() const;
-    };
-
     double
     relaxed_relaxation(const Vector &r);
 

@@ -56,23 +56,6 @@ namespace TKR::Gait
     }
   };
 
-  /** What the pose iteration of a step did. */
-  struct PoseIteration
-  {
-    /** Updates of the pose (contact solves - 1). */
-    unsigned int n_updates = 0;
-    /**
-     * The residual of the last solve (mm): the largest of |mean inferior
-     * displacement| and the restraints' scaled changes, to be compared
-     * with the pose tolerance.
-     */
-    double residual = 0;
-    /** The pose and the restraints met the pose tolerance. */
-    bool converged = false;
-    /** The rigid part of the elastic displacement of the last solve. */
-    InferiorMotion motion;
-  };
-
   /**
    * The load-controlled kinematics of the tibia in a gait step (DESIGN.md
    * section 2): the insert has no displacement condition, its tray may be
@@ -89,9 +72,9 @@ namespace TKR::Gait
    * the mean displacement of its inferior surface and its best-fitting
    * rotation are added to the pose and the step is solved again on the
    * moved geometry, until that correction is below the pose tolerance
-   * (iterate()). The loads and the springs act in the tibia's frame: the
-   * AP force of the simulator's frame is turned into it, the springs act on
-   * pose plus displacement (the pose part is a traction).
+   * (each protocol's solve_pose()). The loads and the springs act in the
+   * tibia's frame: the AP force of the simulator's frame is turned into it, the
+   * springs act on pose plus displacement (the pose part is a traction).
    */
   class TibiaPose
   {
@@ -196,27 +179,6 @@ namespace TKR::Gait
     /** The inferior motion from the observations of motion_observations(). */
     static InferiorMotion
     inferior_motion(const Observations &observations);
-
-    /**
-     * The pose iteration of one step, from @p pose (updated). @p solve
-     * solves the contact problem for a pose and returns whether it
-     * converged, with the inferior motion of the solution in its second
-     * argument. The two-rate restraints' excess force and torque over
-     * their inner rate (which the stiffness holds) are iterated with the
-     * pose: inside the inner range they take their value at the position
-     * reached (a Newton step), beyond it they move k / k_beyond of the way
-     * there (a contraction even where the contact does not hold the
-     * tibia). The whole update is relaxed by the reciprocal of the
-     * residual's slope along the previous update (a secant, at most 1),
-     * halved whenever the residual did not decrease (see the .cc file).
-     */
-    PoseIteration
-    iterate(PoseState &pose,
-            const std::function<bool(const PoseState &, InferiorMotion &)>
-              &solve) const;
-
-    /** At most this many contact solves per step. */
-    static constexpr unsigned int max_iterations = 40;
 
   private:
     /** Refuse a tibia_inferior surface that is not flat enough. */
