@@ -37,9 +37,10 @@ namespace TKR
         std::string last = output.substr(0, output.find_last_not_of('\n') + 1);
         last             = last.substr(last.find_last_of('\n') + 1);
         AssertThrow(false,
-                    ExcInputError(what + ": <" + command + "> failed (exit "
-                                  "status " + std::to_string(status) +
-                                  "): " + last));
+                    ExcInputError(what + ": <" + command +
+                                  "> failed (exit "
+                                  "status " +
+                                  std::to_string(status) + "): " + last));
       }
     return output;
   }

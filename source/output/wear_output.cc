@@ -8,6 +8,7 @@
 #include <tkr/base/atomic_file.h>
 #include <tkr/base/exceptions.h>
 #include <tkr/base/mpi.h>
+#include <tkr/base/process.h>
 #include <tkr/mesh/mesh.h>
 #include <tkr/output/solution_output.h>
 #include <tkr/output/wear_output.h>
@@ -322,15 +323,20 @@ namespace TKR::Output
     std::string error;
     if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
       {
-        std::string command =
-          "'" + std::string(TKR_SOURCE_DIR) + "/scripts/" + script + "'";
-        for (const auto &argument : arguments)
-          command += " '" + argument + "'";
-        command += " > '" + log_file + "' 2>&1";
-        const int status = std::system(command.c_str());
-        if (status != 0)
-          error = "scripts/" + script + " failed (exit status " +
-                  std::to_string(status) + "), see <" + log_file + ">";
+        std::vector<std::string> command = {std::string(TKR_SOURCE_DIR) +
+                                            "/scripts/" + script};
+        command.insert(command.end(), arguments.begin(), arguments.end());
+        std::string output;
+        try
+          {
+            output = run_process(command, "scripts/" + script);
+          }
+        catch (const ExcInputError &exc)
+          {
+            error  = exception_message(exc) + " (see <" + log_file + ">)";
+            output = error + "\n";
+          }
+        std::ofstream(log_file) << output;
       }
     return Utilities::MPI::broadcast(mpi_communicator, error, 0);
   }

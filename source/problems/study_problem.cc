@@ -5,6 +5,7 @@
 
 #include <tkr/base/atomic_file.h>
 #include <tkr/base/exceptions.h>
+#include <tkr/base/process.h>
 #include <tkr/output/summary.h>
 #include <tkr/output/wear_output.h>
 #include <tkr/problems/study_problem.h>
@@ -78,6 +79,30 @@ namespace TKR::Problems
           status = CaseStatus();
         }
       return status;
+    }
+
+    /**
+     * A case's status.json as the study lists it: failed with "not run"
+     * if there is none; a done case without one of result_keys (a
+     * status.json of an older tkr-wear, or edited) failed with a reason
+     * naming the key.
+     */
+    CaseStatus
+    listed_case_status(const std::string &status_file)
+    {
+      CaseStatus read   = read_case_status(status_file);
+      auto      &status = read.fields;
+      if (status.empty())
+        status = {{"status", "failed"}, {"reason", "not run"}};
+      for (const std::string &key : result_keys)
+        if (status["status"] == "done" && read.results.count(key) == 0)
+          status = {{"status", "failed"},
+                    {"reason",
+                     "<" + status_file + "> has no result " + key +
+                       ": run the case again (delete the file and "
+                       "--resume the study)"},
+                    {"wall_time_s", status["wall_time_s"]}};
+      return read;
     }
 
     /**
@@ -171,39 +196,54 @@ namespace TKR::Problems
       int     counter = 0;
       MPI_Win window  = MPI_WIN_NULL;
     };
-    /**
-     * The standard output of @p command (ExcInputError naming @p what and
-     * the command's last line if it fails).
-     */
-    std::string
-    run_command(const std::string &command, const std::string &what)
+    /** The row of case @p c with the status @p read in study.csv and its
+     *  object in study.json (wall times unless @p testing). */
+    void
+    write_case_row(const StudyCase  &c,
+                   const CaseStatus &read,
+                   const bool        testing,
+                   std::ostream     &csv,
+                   std::ostream     &json)
     {
-      std::string output;
-      FILE       *pipe = popen((command + " 2>&1").c_str(), "r");
-      AssertThrow(pipe != nullptr,
-                  ExcInputError(what + ": cannot run <" + command + ">."));
-      char buffer[4096];
-      while (std::fgets(buffer, sizeof(buffer), pipe) != nullptr)
-        output += buffer;
-      const int status = pclose(pipe);
-      if (status != 0)
+      auto status = read.fields;
+      csv << c.name;
+      json << "\n    {\"case\": " << Output::json_string(c.name)
+           << ", \"inputs\": {";
+      for (unsigned int j = 0; j < c.inputs.size(); ++j)
         {
-          std::string last =
-            output.substr(0, output.find_last_not_of('\n') + 1);
-          last = last.substr(last.find_last_of('\n') + 1);
-          AssertThrow(false,
-                      ExcInputError(what + ": <" + command +
-                                    "> failed: " + last));
+          csv << "," << csv_field(c.inputs[j].second);
+          json << (j == 0 ? "" : ", ") << Output::json_string(c.inputs[j].first)
+               << ": " << Output::json_string(c.inputs[j].second);
         }
-      return output;
+      csv << "," << status["status"];
+      json << "}, \"status\": " << Output::json_string(status["status"])
+           << ", \"reason\": " << Output::json_string(status["reason"]);
+      for (const std::string &key : result_keys)
+        {
+          const std::string value =
+            status["status"] == "done" ? read.results.at(key) : "";
+          csv << "," << value;
+          if (!value.empty())
+            json << ", " << Output::json_string(key) << ": " << value;
+        }
+      if (!testing)
+        {
+          csv << "," << status["wall_time_s"];
+          json << ", \"wall_time_s\": " << status["wall_time_s"];
+        }
+      csv << "," << csv_field(status["reason"]) << "\n";
+      json << "}";
     }
   } // namespace
 
-  std::string
+  std::vector<std::string>
   StudyProblem::generator_command() const
   {
-    return "'" + parameters.study.mesh_generator + "' " +
-           parameters.study.mesh_generator_arguments;
+    std::vector<std::string> command = {parameters.study.mesh_generator};
+    std::istringstream arguments(parameters.study.mesh_generator_arguments);
+    for (std::string argument; arguments >> argument;)
+      command.push_back(argument);
+    return command;
   }
 
   StudyProblem::StudyProblem(const Parameters::AllParameters &parameters,
@@ -234,8 +274,9 @@ namespace TKR::Problems
         std::string listing;
         on_root(
           [&]() {
-            listing = run_command(generator_command() + " --print",
-                                  "Study/Mesh generator");
+            std::vector<std::string> command = generator_command();
+            command.push_back("--print");
+            listing = run_process(command, "Study/Mesh generator");
           },
           mpi_communicator);
         listing = Utilities::MPI::broadcast(mpi_communicator, listing, 0);
@@ -334,89 +375,105 @@ namespace TKR::Problems
     return n_failed == 0;
   }
 
+  // The case's mesh (on the group's rank 0; its error on every rank of the
+  // group), by the Mesh generator with the case's Generator/ entries.
+  void
+  StudyProblem::make_case_mesh(const unsigned int index,
+                               const StepGroups  &group) const
+  {
+    if (parameters.study.mesh_generator.empty())
+      return;
+    const std::string directory = case_directory(index);
+    std::string       error;
+    if (group.is_group_root)
+      try
+        {
+          std::vector<std::string> command = generator_command();
+          for (const auto &[path, value] : cases[index].entries)
+            if (path.rfind("Generator/", 0) == 0)
+              command.insert(command.end(),
+                             {"--set", path.substr(10) + "=" + value});
+          command.insert(
+            command.end(),
+            {"-o", directory + "/mesh.msh", "--prm", directory + "/mesh.prm"});
+          std::cout << run_process(command, "the mesh generator");
+        }
+      catch (const ExcInputError &exc)
+        {
+          error = exception_message(exc);
+        }
+    error = Utilities::MPI::broadcast(group.communicator, error, 0);
+    AssertThrow(error.empty(), ExcInputError(error));
+  }
+
+  // The case's wear run, its output in its log.txt; an error of the run is
+  // the case's failure, its message the reason (on one line: deal.II's
+  // messages of the parameter checks span several).
+  StudyProblem::CaseOutcome
+  StudyProblem::run_wear_case(const unsigned int index,
+                              const StepGroups  &group) const
+  {
+    const std::string directory = case_directory(index);
+    CaseOutcome       outcome;
+    CaseOutput        output(directory + "/log.txt", group.is_group_root);
+    try
+      {
+        make_case_mesh(index, group);
+        const Parameters::AllParameters case_parameters =
+          Parameters::read_parameters(directory + "/case.prm");
+        outcome.resumed =
+          resume && std::filesystem::exists(directory + "/checkpoint.h5");
+        WearProblem problem(case_parameters,
+                            group.communicator,
+                            outcome.resumed);
+        const bool  converged = problem.run();
+        outcome.results       = problem.result().named_values();
+        if (!converged)
+          {
+            outcome.status = "failed";
+            outcome.reason = "a contact solve, pose iteration or load balance "
+                             "did not converge (log.txt; summary.json lists "
+                             "the steps)";
+          }
+      }
+    catch (const ExceptionBase &exc)
+      {
+        outcome.status = "failed";
+        outcome.reason = exception_message(exc);
+      }
+    catch (const std::exception &exc)
+      {
+        outcome.status = "failed";
+        outcome.reason = exc.what();
+      }
+    std::istringstream words(outcome.reason);
+    outcome.reason.clear();
+    for (std::string word; words >> word;)
+      outcome.reason += (outcome.reason.empty() ? "" : " ") + word;
+    if (!outcome.reason.empty())
+      std::cout << cases[index].name << ": " << outcome.reason << std::endl;
+    return outcome;
+  }
+
   void
   StudyProblem::run_case(const unsigned int index,
                          const StepGroups  &group,
                          const MPI_Comm     error_communicator)
   {
-    const std::string directory   = case_directory(index);
-    const std::string status_file = directory + "/status.json";
+    const std::string status_file = case_directory(index) + "/status.json";
     bool              skip        = false;
     if (group.is_group_root)
       skip = resume && !read_case_status(status_file).fields.empty();
     if (Utilities::MPI::broadcast(group.communicator, skip, 0))
       return;
 
-    const double            start   = MPI_Wtime();
-    std::string             status  = "done", reason;
-    bool                    resumed = false;
-    Output::Summary::Record results;
-    {
-      CaseOutput output(directory + "/log.txt", group.is_group_root);
-      try
-        {
-          if (!parameters.study.mesh_generator.empty())
-            {
-              // The case's mesh first (on the group's rank 0; its error on
-              // every rank of the group).
-              std::string error;
-              if (group.is_group_root)
-                try
-                  {
-                    std::string command = generator_command();
-                    for (const auto &[path, value] : cases[index].entries)
-                      if (path.rfind("Generator/", 0) == 0)
-                        command +=
-                          " --set '" + path.substr(10) + "=" + value + "'";
-                    command += " -o '" + directory + "/mesh.msh' --prm '" +
-                               directory + "/mesh.prm'";
-                    std::cout << run_command(command, "the mesh generator");
-                  }
-                catch (const ExcInputError &exc)
-                  {
-                    error = exception_message(exc);
-                  }
-              error = Utilities::MPI::broadcast(group.communicator, error, 0);
-              AssertThrow(error.empty(), ExcInputError(error));
-            }
-          const Parameters::AllParameters case_parameters =
-            Parameters::read_parameters(directory + "/case.prm");
-          resumed =
-            resume && std::filesystem::exists(directory + "/checkpoint.h5");
-          WearProblem problem(case_parameters, group.communicator, resumed);
-          const bool  converged = problem.run();
-          results               = problem.result().named_values();
-          if (!converged)
-            {
-              status = "failed";
-              reason = "a contact solve, pose iteration or load balance did "
-                       "not converge (log.txt; summary.json lists the "
-                       "steps)";
-            }
-        }
-      catch (const ExceptionBase &exc)
-        {
-          status = "failed";
-          reason = exception_message(exc);
-        }
-      catch (const std::exception &exc)
-        {
-          status = "failed";
-          reason = exc.what();
-        }
-      // One line: deal.II's messages of the parameter checks span several.
-      std::istringstream words(reason);
-      reason.clear();
-      for (std::string word; words >> word;)
-        reason += (reason.empty() ? "" : " ") + word;
-      if (!reason.empty())
-        std::cout << cases[index].name << ": " << reason << std::endl;
-    }
+    const double      start   = MPI_Wtime();
+    const CaseOutcome outcome = run_wear_case(index, group);
     // An error raised on some ranks of the group only leaves the others
     // waiting in the case forever (they hold no exception): end the study
     // (the cases done stay done; --resume continues it). A run that did not
     // converge fails on every rank of the group: all arrive at once.
-    if (status == "failed" &&
+    if (outcome.status == "failed" &&
         !all_ranks_arrive(error_communicator, error_grace_seconds))
       {
         std::cerr << "tkr-wear: " << cases[index].name << ": error on rank "
@@ -424,7 +481,7 @@ namespace TKR::Problems
                   << " that the other ranks of its group did not raise "
                      "within "
                   << error_grace_seconds << " s; ending the study (--resume "
-                  << "continues it): " << reason << std::endl;
+                  << "continues it): " << outcome.reason << std::endl;
         MPI_Abort(mpi_communicator, 1);
       }
     const double wall_time = MPI_Wtime() - start;
@@ -434,20 +491,20 @@ namespace TKR::Problems
     // table is written from (output_results()).
     Output::Summary json;
     json.set("case", cases[index].name);
-    json.set("status", status);
-    json.set("reason", reason);
-    json.set("resumed", resumed);
+    json.set("status", outcome.status);
+    json.set("reason", outcome.reason);
+    json.set("resumed", outcome.resumed);
     json.set("wall_time_s", wall_time);
-    if (status == "done")
-      json.set("results", results);
+    if (outcome.status == "done")
+      json.set("results", outcome.results);
     write_atomically(status_file, json.to_json());
     if (!parameters.output.testing)
       {
         std::ostringstream line;
-        line << cases[index].name << " " << status << " in " << std::fixed
-             << std::setprecision(1) << wall_time << " s (group " << group.index
-             << ")";
-        for (const auto &[key, value] : results)
+        line << cases[index].name << " " << outcome.status << " in "
+             << std::fixed << std::setprecision(1) << wall_time << " s (group "
+             << group.index << ")";
+        for (const auto &[key, value] : outcome.results)
           if (key == "mass_loss_mg")
             line << ": mass loss " << std::defaultfloat << std::setprecision(12)
                  << value << " mg";
@@ -485,52 +542,13 @@ namespace TKR::Problems
     unsigned int n_failed = 0;
     for (unsigned int i = 0; i < cases.size(); ++i)
       {
-        const std::string status_file = case_directory(i) + "/status.json";
-        const CaseStatus  read        = read_case_status(status_file);
-        auto              status      = read.fields;
-        if (status.empty())
-          status = {{"status", "failed"}, {"reason", "not run"}};
-        // A done case without one of its results (a status.json of an
-        // older tkr-wear, or edited) is an error of that case, by name.
-        for (const std::string &key : result_keys)
-          if (status["status"] == "done" && read.results.count(key) == 0)
-            status = {{"status", "failed"},
-                      {"reason",
-                       "<" + status_file + "> has no result " + key +
-                         ": run the case again (delete the file and "
-                         "--resume the study)"},
-                      {"wall_time_s", status["wall_time_s"]}};
+        const CaseStatus read =
+          listed_case_status(case_directory(i) + "/status.json");
+        auto status = read.fields;
         if (status["status"] != "done")
           ++n_failed;
-        csv << cases[i].name;
-        json << (i == 0 ? "" : ",")
-             << "\n    {\"case\": " << Output::json_string(cases[i].name)
-             << ", \"inputs\": {";
-        for (unsigned int j = 0; j < cases[i].inputs.size(); ++j)
-          {
-            csv << "," << csv_field(cases[i].inputs[j].second);
-            json << (j == 0 ? "" : ", ")
-                 << Output::json_string(cases[i].inputs[j].first) << ": "
-                 << Output::json_string(cases[i].inputs[j].second);
-          }
-        csv << "," << status["status"];
-        json << "}, \"status\": " << Output::json_string(status["status"])
-             << ", \"reason\": " << Output::json_string(status["reason"]);
-        for (const std::string &key : result_keys)
-          {
-            const std::string value =
-              status["status"] == "done" ? read.results.at(key) : "";
-            csv << "," << value;
-            if (!value.empty())
-              json << ", " << Output::json_string(key) << ": " << value;
-          }
-        if (!parameters.output.testing)
-          {
-            csv << "," << status["wall_time_s"];
-            json << ", \"wall_time_s\": " << status["wall_time_s"];
-          }
-        csv << "," << csv_field(status["reason"]) << "\n";
-        json << "}";
+        json << (i == 0 ? "" : ",");
+        write_case_row(cases[i], read, parameters.output.testing, csv, json);
 
         std::cout << "  " << cases[i].name << "  " << std::setw(6)
                   << status["status"];

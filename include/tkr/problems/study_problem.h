@@ -9,6 +9,7 @@
 #include <tkr/problems/study_cases.h>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace TKR::Problems
@@ -42,6 +43,23 @@ namespace TKR::Problems
     run();
 
   private:
+    /** How a case ended: "done" or "failed" (with the reason), whether it
+     *  was resumed, and its results (Wear::RunResult::named_values()). */
+    struct CaseOutcome
+    {
+      std::string                                 status  = "done", reason;
+      bool                                        resumed = false;
+      std::vector<std::pair<std::string, double>> results;
+    };
+
+    /** The mesh of case @p index, if the study has a Mesh generator. */
+    void
+    make_case_mesh(const unsigned int index, const StepGroups &group) const;
+
+    /** The wear run of case @p index on this group. */
+    CaseOutcome
+    run_wear_case(const unsigned int index, const StepGroups &group) const;
+
     /** Run case @p index on this group; its status record. */
     void
     run_case(const unsigned int index,
@@ -55,8 +73,9 @@ namespace TKR::Problems
     std::string
     case_directory(const unsigned int index) const;
 
-    /** `Mesh generator` with its fixed arguments, for a shell. */
-    std::string
+    /** `Mesh generator` and its fixed arguments (`Mesh generator
+     *  arguments`, separated by white space). */
+    std::vector<std::string>
     generator_command() const;
 
     const Parameters::AllParameters parameters;
