@@ -10,6 +10,7 @@
 #include <tkr/mortar/contact_surface.h>
 #include <tkr/mortar/surface_geometry.h>
 
+#include <algorithm>
 #include <map>
 
 namespace TKR::Mortar
@@ -55,6 +56,39 @@ namespace TKR::Mortar
     for (unsigned int f = 0; f < face_list.size(); ++f)
       for (const unsigned int n : face_list[f].nodes)
         faces_of_node[n].push_back(f);
+  }
+
+  ContactSurface
+  ContactSurface::with_dofs_of(const DoFHandler<3> &dof_handler) const
+  {
+    AssertThrow(dof_handler.get_fe().degree == 1,
+                ExcInputError("Contact needs Finite element degree = 1 "
+                              "(the mortar coupling is implemented for "
+                              "bilinear faces)."));
+    ContactSurface                       surface = *this;
+    std::map<unsigned int, unsigned int> node_of_vertex;
+    for (unsigned int j = 0; j < node_list.size(); ++j)
+      node_of_vertex[node_list[j].vertex] = j;
+    std::vector<bool> found(node_list.size(), false);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      for (const auto f : cell->face_indices())
+        if (cell->face(f)->at_boundary())
+          for (const auto v : cell->face(f)->vertex_indices())
+            {
+              const auto it =
+                node_of_vertex.find(cell->face(f)->vertex_index(v));
+              if (it == node_of_vertex.end() || found[it->second])
+                continue;
+              for (unsigned int c = 0; c < 3; ++c)
+                surface.node_list[it->second].dofs[c] =
+                  cell->face(f)->vertex_dof_index(v, c);
+              found[it->second] = true;
+            }
+    AssertThrow(std::all_of(found.begin(),
+                            found.end(),
+                            [](bool b) { return b; }),
+                ExcInternalError());
+    return surface;
   }
 
   // phi_j integrated over the faces around node j with the face's area

@@ -75,9 +75,10 @@ namespace TKR::Problems
   TwoBodyModel::setup_contact_surfaces()
   {
     const auto &dof_handler = two_bodies.get_dof_handler();
-    slave                   = std::make_unique<Mortar::ContactSurface>(
-      dof_handler,
-      Mesh::BoundaryIds::tibia_contact);
+    // The geometry's worn surface on the elasticity's DoFs: one numbering
+    // of the tibia_contact nodes for the coupling and the wear.
+    slave = std::make_unique<Mortar::ContactSurface>(
+      worn_geometry.worn_surface().with_dofs_of(dof_handler));
     master = std::make_unique<Mortar::ContactSurface>(
       dof_handler,
       Mesh::BoundaryIds::femur_contact);

@@ -47,6 +47,16 @@ namespace TKR::Mortar
     ContactSurface(const dealii::DoFHandler<3>     &dof_handler,
                    const dealii::types::boundary_id boundary_id);
 
+    /**
+     * This surface (the same nodes in the same order, the same faces) with
+     * the DoFs of @p dof_handler, another FESystem(FE_Q(1), 3) on the same
+     * triangulation: the geometry's worn surface becomes the mortar
+     * coupling's slave surface, so that both number the tibia_contact
+     * nodes alike by construction.
+     */
+    ContactSurface
+    with_dofs_of(const dealii::DoFHandler<3> &dof_handler) const;
+
     const std::vector<Node> &
     nodes() const
     {
