@@ -11,6 +11,7 @@
 #include <tkr/base/exceptions.h>
 #include <tkr/base/mpi.h>
 #include <tkr/output/checkpoint.h>
+#include <tkr/wear/wear_law.h>
 
 #include <cmath>
 #include <cstdint>
@@ -19,6 +20,7 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <set>
 #include <sstream>
 
 namespace TKR::Output
@@ -192,6 +194,14 @@ namespace TKR::Output
     const auto starts_with = [](const std::string &s, const std::string &p) {
       return s.rfind(p, 0) == 0;
     };
+    // The wear laws' input files count by their content (checksum), for
+    // the law of the run; their paths (of any law) do not count.
+    std::set<std::string> law_files;
+    for (const std::string &name :
+         Utilities::split_string_list(Wear::WearLaws::names("|"), '|'))
+      if (const auto &files = Wear::WearLaws::get(name, "Wear/Wear law").files)
+        for (const auto &[entry, path] : files(parameters.wear))
+          law_files.insert("Wear/" + entry);
     for (const auto &[entry, value] : parameters.entries)
       if ((starts_with(entry, "Mesh/") && entry != "Mesh/File") ||
           starts_with(entry, "Materials/") ||
@@ -200,15 +210,17 @@ namespace TKR::Output
           (starts_with(entry, "Wear/") && entry != "Wear/Cycles" &&
            entry != "Wear/Distortion limit" &&
            entry != "Wear/Halve step on distortion" &&
-           entry != "Wear/Cross-shear table" && entry != "Wear/Run-in file"))
+           entry != "Wear/Run-in file" && law_files.count(entry) == 0))
         state[entry] = value;
     state["Mesh/File (checksum)"] = checksum(parameters.mesh.file);
     state["Gait/Waveform file (checksum)"] =
       checksum(parameters.gait.waveform_file);
-    state["Wear/Cross-shear table (checksum)"] =
-      checksum(parameters.wear.cross_shear_table);
     state["Wear/Run-in file (checksum)"] =
       checksum(parameters.wear.run_in_file);
+    const auto &law = Wear::WearLaws::get(parameters.wear.law, "Wear/Wear law");
+    if (law.files)
+      for (const auto &[entry, path] : law.files(parameters.wear))
+        state["Wear/" + entry + " (checksum)"] = checksum(path);
     return state;
   }
 

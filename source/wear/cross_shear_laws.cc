@@ -22,6 +22,13 @@ namespace TKR::Wear
                "";
     }
 
+    /** Their input file: the table, guarded by a checkpoint. */
+    WearLawPlugin::Files
+    table_file(const Parameters::Wear &parameters)
+    {
+      return {{"Cross-shear table", parameters.cross_shear_table}};
+    }
+
     [[maybe_unused]] const bool archard_cs_registered = WearLaws::add(
       {"archard_cs",
        "Archard's law with k from the Cross-shear table as a function of "
@@ -31,7 +38,8 @@ namespace TKR::Wear
        [](const Parameters::Wear &parameters) -> std::unique_ptr<WearLaw> {
          return std::make_unique<ArchardCrossShearWear>(
            CrossShearTable(parameters.cross_shear_table, "k_mm3_per_Nm", true));
-       }});
+       },
+       table_file});
 
     [[maybe_unused]] const bool area_registered = WearLaws::add(
       {"area",
@@ -42,7 +50,8 @@ namespace TKR::Wear
        [](const Parameters::Wear &parameters) -> std::unique_ptr<WearLaw> {
          return std::make_unique<AreaWear>(
            CrossShearTable(parameters.cross_shear_table, "C", false));
-       }});
+       },
+       table_file});
   } // namespace
 
   void
