@@ -262,11 +262,12 @@ namespace TKR::Contact
   // Every peer lists the nodes it wants (its last stiffness's) and those it
   // holds (kept master columns); a node that a peer lacks is sent by the
   // first peer that holds it or, if none does, computed by one peer (in
-  // turn) and sent by it. The columns travel in rounds of a few nodes per
-  // peer, to bound the buffers. (At the first setup nobody wants a node:
-  // the flags' gather, a few kB, is all it costs.)
-  void
-  CondensedActiveSetSolver::prefetch(const MPI_Comm peers)
+  // turn) and sent by it. (At the first setup nobody wants a node: the
+  // flags' gather, a few kB, is all it costs.)
+  std::vector<std::vector<unsigned int>>
+  CondensedActiveSetSolver::prefetch_plan(
+    const MPI_Comm             peers,
+    std::vector<unsigned int> &to_compute) const
   {
     const unsigned int n_nodes = node_columns.size();
     const unsigned int n_peers = Utilities::MPI::n_mpi_processes(peers);
@@ -285,7 +286,6 @@ namespace TKR::Contact
 
     // who sends each node that some peer lacks (its list per peer)
     std::vector<std::vector<unsigned int>> sent(n_peers);
-    std::vector<unsigned int>              to_compute;
     unsigned int                           turn = 0;
     for (unsigned int node = 0; node < n_nodes; ++node)
       {
@@ -310,11 +310,31 @@ namespace TKR::Contact
           }
         sent[holder].push_back(node);
       }
+    return sent;
+  }
+
+  void
+  CondensedActiveSetSolver::prefetch(const MPI_Comm peers)
+  {
+    std::vector<unsigned int>                    to_compute;
+    const std::vector<std::vector<unsigned int>> sent =
+      prefetch_plan(peers, to_compute);
     if (!to_compute.empty())
       compute_columns(to_compute);
-    if (n_peers == 1)
-      return;
+    if (Utilities::MPI::n_mpi_processes(peers) > 1)
+      exchange_columns(sent, peers);
+  }
 
+  // The columns travel in rounds of a few nodes per peer, to bound the
+  // buffers.
+  void
+  CondensedActiveSetSolver::exchange_columns(
+    const std::vector<std::vector<unsigned int>> &sent,
+    const MPI_Comm                                peers)
+  {
+    const unsigned int n_peers = Utilities::MPI::n_mpi_processes(peers);
+    const unsigned int me      = Utilities::MPI::this_mpi_process(peers);
+    std::vector<int>   offsets;
     TimerOutput::Scope scope(timer, "compliance column exchange");
     const unsigned int n_observations = observation_weights.size();
     const unsigned int round          = 32;

@@ -330,6 +330,76 @@ namespace TKR::Contact
     return dq;
   }
 
+  // The line search of one pose step: the bracket [low, high] of the step
+  // has phi'(low) < 0 (its solution kept) and phi'(high) > eta |phi'(0)|
+  // or no contact solution there; regula falsi on phi' where both ends
+  // have a slope, else halving, never closer than a tenth of the bracket
+  // to an end.
+  CondensedActiveSetSolver::PoseStep
+  CondensedActiveSetSolver::pose_line_search(
+    PoseSystem                &system,
+    const PosePoint           &start,
+    const ContactState        &start_state,
+    const std::vector<double> &dq,
+    const std::function<double(const PosePoint &, const std::vector<double> &)>
+                   &slope,
+    const double    initial_distance,
+    unsigned int   &newton_iterations,
+    PoseStatistics &pose_statistics)
+  {
+    const double slope_0   = slope(start, dq);
+    const double alpha_max = std::min(1., max_pose_step / system.step_size(dq));
+    double       low = 0, slope_low = slope_0;
+    double       high = alpha_max, slope_high = 0;
+    bool         has_high = false;
+    PoseStep     lowest;
+    double       alpha = alpha_max;
+    for (unsigned int n = 0; n < max_line_search_steps; ++n)
+      {
+        std::vector<double> q_trial(start.q.size());
+        for (unsigned int k = 0; k < q_trial.size(); ++k)
+          q_trial[k] = start.q[k] + alpha * dq[k];
+        PoseStep trial;
+        trial.state = start_state;
+        bool solved = system.couple(q_trial);
+        if (solved)
+          {
+            trial.point = make_pose_point(system, q_trial);
+            trial.statistics =
+              solve_at_pose(system, initial_distance, trial.point, trial.state);
+            newton_iterations += trial.statistics.newton_iterations;
+            ++pose_statistics.n_solves;
+            solved = trial.statistics.converged;
+          }
+        const double s = solved ? slope(trial.point, dq) : 0.;
+        if (solved && (std::abs(s) <= line_search_eta * std::abs(slope_0) ||
+                       (s < 0 && alpha == alpha_max)))
+          {
+            trial.outcome = PoseStep::accepted;
+            return trial;
+          }
+        if (solved && s < 0)
+          {
+            low            = alpha;
+            slope_low      = s;
+            lowest         = std::move(trial);
+            lowest.outcome = PoseStep::lowered;
+          }
+        else
+          {
+            high       = alpha;
+            slope_high = s;
+            has_high   = solved;
+          }
+        const double width = high - low;
+        alpha = has_high ? low - slope_low * width / (slope_high - slope_low) :
+                           0.5 * (low + high);
+        alpha = std::clamp(alpha, low + 0.1 * width, high - 0.1 * width);
+        ++pose_statistics.n_step_cuts;
+      }
+    return lowest;
+  }
+
   // The iteration (doc/gait.md, "Pose and contact in one Newton"): the
   // contact solution at the starting pose (enough for a warm step whose
   // pose still holds); then, at the contact solution (lambda, q) of the
@@ -396,87 +466,31 @@ namespace TKR::Contact
         ++pose_statistics.n_iterations;
         const std::vector<double> dq =
           pose_search_direction(system, point, stiffness, pose_statistics);
-        const double slope_0 = slope(point, dq);
-        // The bracket [low, high] of the step: phi'(low) < 0 (its
-        // solution kept), phi'(high) > eta |phi'(0)| or no contact
-        // solution there.
-        const double alpha_max =
-          std::min(1., max_pose_step / system.step_size(dq));
-        double            low = 0, slope_low = slope_0;
-        double            high = alpha_max, slope_high = 0;
-        bool              has_high = false;
-        PosePoint         low_point;
-        ContactState      low_state;
-        ContactStatistics low_statistics;
-        double            alpha    = alpha_max;
-        bool              accepted = false;
-        for (unsigned int n = 0; n < max_line_search_steps && !accepted; ++n)
+        PoseStep step = pose_line_search(system,
+                                         point,
+                                         state,
+                                         dq,
+                                         slope,
+                                         initial_distance,
+                                         newton_iterations,
+                                         pose_statistics);
+        if (step.outcome == PoseStep::stuck)
           {
-            std::vector<double> q_trial(q.size());
-            for (unsigned int k = 0; k < q.size(); ++k)
-              q_trial[k] = point.q[k] + alpha * dq[k];
-            ContactState      trial_state = state;
-            PosePoint         trial;
-            ContactStatistics trial_statistics;
-            bool              solved = system.couple(q_trial);
-            if (solved)
-              {
-                trial = make_pose_point(system, q_trial);
-                trial_statistics =
-                  solve_at_pose(system, initial_distance, trial, trial_state);
-                newton_iterations += trial_statistics.newton_iterations;
-                ++pose_statistics.n_solves;
-                solved = trial_statistics.converged;
-              }
-            const double s = solved ? slope(trial, dq) : 0.;
-            if (solved && (std::abs(s) <= line_search_eta * std::abs(slope_0) ||
-                           (s < 0 && alpha == alpha_max)))
-              {
-                point      = std::move(trial);
-                state      = std::move(trial_state);
-                statistics = trial_statistics;
-                accepted   = true;
-                break;
-              }
-            if (solved && s < 0)
-              {
-                low            = alpha;
-                slope_low      = s;
-                low_point      = std::move(trial);
-                low_state      = std::move(trial_state);
-                low_statistics = trial_statistics;
-              }
-            else
-              {
-                high       = alpha;
-                slope_high = s;
-                has_high   = solved;
-              }
-            // Regula falsi on phi' where both ends have a slope, else
-            // halving; never closer than a tenth of the bracket to an end.
-            const double width = high - low;
-            alpha              = has_high ?
-                                   low - slope_low * width / (slope_high - slope_low) :
-                                   0.5 * (low + high);
-            alpha = std::clamp(alpha, low + 0.1 * width, high - 0.1 * width);
-            ++pose_statistics.n_step_cuts;
-          }
-        if (accepted)
-          continue;
-        if (low > 0)
-          {
-            // The bracket's lower end lowers V: taken, counted.
-            ++pose_statistics.n_stalled_steps;
-            point      = std::move(low_point);
-            state      = std::move(low_state);
-            statistics = low_statistics;
+            // No contact solution, or no descent, near the start: the
+            // solve ends, not converged, at the last point.
+            stuck = true;
             system.couple(point.q);
             continue;
           }
-        // No contact solution, or no descent, near the start: the solve
-        // ends, not converged, at the last point.
-        stuck = true;
-        system.couple(point.q);
+        point      = std::move(step.point);
+        state      = std::move(step.state);
+        statistics = step.statistics;
+        if (step.outcome == PoseStep::lowered)
+          {
+            // The bracket's lower end lowers V: taken, counted.
+            ++pose_statistics.n_stalled_steps;
+            system.couple(point.q);
+          }
       }
     q                        = point.q;
     pose_statistics.residual = largest(point);

@@ -167,6 +167,13 @@ namespace TKR::Parameters
                         "are split into this many groups, each solving every "
                         "n-th step on its own copy of the mesh (0: one group "
                         "per rank). The result does not depend on it.");
+    }
+
+    /** The springs and signs beyond ISO 14243-1's, the mounting offset and
+     *  the channels' scales. */
+    void
+    declare_gait_adjustments(ParameterHandler &prm)
+    {
       prm.declare_entry("ML spring stiffness",
                         "0",
                         Patterns::Double(0),
@@ -233,6 +240,7 @@ namespace TKR::Parameters
       declare_gait_cycle(prm);
       declare_gait_loads(prm);
       declare_gait_pose(prm);
+      declare_gait_adjustments(prm);
     }
     prm.leave_subsection();
   }
@@ -284,10 +292,11 @@ namespace TKR::Parameters
     prm.leave_subsection();
   }
 
-  void
-  Wear::declare_parameters(ParameterHandler &prm)
+  namespace
   {
-    prm.enter_subsection("Wear");
+    /** The wear law, its constants and the run-in. */
+    void
+    declare_wear_law(ParameterHandler &prm)
     {
       prm.declare_entry("Wear law",
                         "archard",
@@ -321,6 +330,15 @@ namespace TKR::Parameters
         "integrated exactly over each extrapolation block (doc/wear.md, "
         "Run-in); empty: no run-in (factor 1). Any wear law. A relative path "
         "is found as the Cross-shear table's.");
+    }
+  } // namespace
+
+  void
+  Wear::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Wear");
+    {
+      declare_wear_law(prm);
       prm.declare_entry("Cycles",
                         "5e6",
                         Patterns::Double(0),

@@ -54,19 +54,14 @@ namespace TKR::Problems
     : model(parameters, mpi_communicator, mpi_communicator)
   {}
 
+  // Dirichlet data on all DoFs (every rank knows every constraint): the
+  // femur's displacement on femur_fixation, a clamped tibia_inferior, the
+  // rollers.
   void
-  ContactProblem::setup_system()
+  ContactProblem::setup_constraints()
   {
-    const auto &parameters = model.parameters();
-    model.distribute_dofs();
+    const auto &sc          = model.parameters().static_contact;
     const auto &dof_handler = model.elasticity().get_dof_handler();
-    model.pcout() << "Degrees of freedom: " << dof_handler.n_dofs()
-                  << ", MPI ranks: "
-                  << Utilities::MPI::n_mpi_processes(model.communicator())
-                  << std::endl;
-
-    // Dirichlet data on all DoFs (every rank knows every constraint).
-    const auto &sc = parameters.static_contact;
     dirichlet.clear();
     Vector<double> femur_displacement(3);
     for (unsigned int d = 0; d < 3; ++d)
@@ -96,10 +91,15 @@ namespace TKR::Problems
                                                  mask);
       }
     dirichlet.close();
+  }
 
-    // A loaded tibia: the axial force as a uniform traction on its inferior
-    // surface, and in-plane springs spread over the same surface.
-    loads = Elasticity::BoundaryLoads();
+  // A loaded tibia: the axial force as a uniform traction on its inferior
+  // surface, and in-plane springs spread over the same surface.
+  void
+  ContactProblem::setup_loads()
+  {
+    const auto &sc = model.parameters().static_contact;
+    loads          = Elasticity::BoundaryLoads();
     if (sc.tibia_inferior == Parameters::TibiaSupport::loaded)
       {
         const double area = Mesh::compute_statistics(model.triangulation())
@@ -110,6 +110,21 @@ namespace TKR::Problems
         spring[0][0] = spring[1][1] = sc.tangential_spring / area;
         loads.springs[Mesh::BoundaryIds::tibia_inferior] = spring;
       }
+  }
+
+  void
+  ContactProblem::setup_system()
+  {
+    const auto &parameters = model.parameters();
+    model.distribute_dofs();
+    const auto &dof_handler = model.elasticity().get_dof_handler();
+    model.pcout() << "Degrees of freedom: " << dof_handler.n_dofs()
+                  << ", MPI ranks: "
+                  << Utilities::MPI::n_mpi_processes(model.communicator())
+                  << std::endl;
+
+    setup_constraints();
+    setup_loads();
 
     {
       TimerOutput::Scope scope(model.timer(), "mortar coupling");

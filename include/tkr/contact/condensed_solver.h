@@ -17,6 +17,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <unordered_map>
 #include <vector>
 
@@ -196,6 +197,20 @@ namespace TKR::Contact
     compute_columns(const std::vector<unsigned int> &nodes);
 
     /**
+     * Who sends which node's columns in prefetch(): per peer of @p peers
+     * the nodes it sends; @p to_compute gets those this peer computes
+     * first (nobody holds them).
+     */
+    std::vector<std::vector<unsigned int>>
+    prefetch_plan(const MPI_Comm             peers,
+                  std::vector<unsigned int> &to_compute) const;
+
+    /** Send and receive the columns of prefetch_plan()'s @p sent. */
+    void
+    exchange_columns(const std::vector<std::vector<unsigned int>> &sent,
+                     const MPI_Comm                                peers);
+
+    /**
      * The active-set iteration on the contact zone for the surface
      * displacement @p u0 (all surface values) and its observations.
      */
@@ -346,6 +361,40 @@ namespace TKR::Contact
                           PosePoint                        &point,
                           const dealii::FullMatrix<double> &stiffness,
                           PoseStatistics                   &statistics);
+
+    /** What a line search of solve_with_pose() found. */
+    struct PoseStep
+    {
+      /** accepted: the strong Wolfe condition holds; lowered: not, but
+       *  the bracket's lower end lowers the energy; stuck: neither. */
+      enum Outcome
+      {
+        accepted,
+        lowered,
+        stuck
+      } outcome = stuck;
+      PosePoint         point;
+      ContactState      state;
+      ContactStatistics statistics;
+    };
+
+    /**
+     * The line search of solve_with_pose() along @p dq from the contact
+     * solution @p start (state @p start_state); @p slope is the energy's
+     * slope along a direction at a solution. Counts the solves and cuts in
+     * @p pose_statistics and adds the Newton iterations.
+     */
+    PoseStep
+    pose_line_search(
+      PoseSystem                                               &system,
+      const PosePoint                                          &start,
+      const ContactState                                       &start_state,
+      const std::vector<double>                                &dq,
+      const std::function<double(const PosePoint &,
+                                 const std::vector<double> &)> &slope,
+      const double    initial_distance,
+      unsigned int   &newton_iterations,
+      PoseStatistics &pose_statistics);
 
     /** u_0 and its observations for the basis coefficients @p c. */
     void

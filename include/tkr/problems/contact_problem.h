@@ -47,6 +47,15 @@ namespace TKR::Problems
     }
 
   private:
+    /** The Dirichlet constraints of Static contact (femur fixation,
+     *  clamped tibia, rollers). */
+    void
+    setup_constraints();
+
+    /** The loaded tibia's traction and springs (none if clamped). */
+    void
+    setup_loads();
+
     void
     setup_system();
     void
