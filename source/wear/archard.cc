@@ -30,7 +30,8 @@ namespace TKR::Wear
        nothing_missing,
        [](const Parameters::Wear &parameters) -> std::unique_ptr<WearLaw> {
          return std::make_unique<ArchardWear>(parameters.wear_coefficient);
-       }});
+       },
+       nullptr});
   } // namespace
 
   double
