@@ -35,8 +35,9 @@ wrong answer pass these. Always checked (doc/wear.md, "One block",
   which is between the two. The band (default 1 %) covers the rebuilt
   unworn surface: it is moved back along the worn surface's normals, not
   the ones the wear moved it along, which differ by the slope of the wear
-  profile (depth / cell size, 0.4 / 3 at most here): an error of second
-  order in that slope, 0.1 to 0.2 % of the volume on the one-block runs.
+  profile (depth / cell size: 0.4 / 3.7 on the one-cycle runs), an error
+  of second order in that slope: 0.1 to 0.2 % of the volume on the
+  one-block runs.
 
 With --rate-band B (for Archard's law, whose worn volume per cycle is k x
 normal load x sliding distance and so changes only as far as the wear moves
