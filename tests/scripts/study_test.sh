@@ -19,6 +19,10 @@
 # 4. a cases file with a good case, a value the parameter checks refuse
 #    and a contact solver that cannot converge, on 2 ranks: exit code 1,
 #    the good case done, the others failed with their reasons;
+# 4b. the results each case of 3. kept in its status.json (the run's
+#    Wear::RunResult, read in-process) equal its summary.json; with
+#    mass_loss_mg taken out of case-0000's, --resume lists that case as
+#    failed with a reason that names the key, and exits with 1;
 # 5. a path the base file does not have: one message with the study file's
 #    line, the case, the entry and the value; exit code 1;
 # 6. design variants (generator.prm): meshes/gen/tkr_variant.py meshes
@@ -155,6 +159,37 @@ ok = (rows["case-0000"]["status"] == "done"
 sys.exit(0 if ok else 1)
 EOF
 echo "study_test: 4. one failed input and one failed solve recorded with their reasons, the good case done, exit code $status"
+
+# 4b. The table is written from the results each case kept in its
+# status.json (in-process, Wear::RunResult): they equal its summary.json;
+# a done case that lacks one of them is listed as failed, naming the key.
+python3 - "$python_dir" << 'EOF' || fail "4b. status.json results against summary.json"
+import json, sys
+sys.path.insert(0, sys.argv[1])
+import tkr_results
+status = tkr_results.load_json_object("grid/case-0000/status.json")
+summary = tkr_results.load_json_object("grid/case-0000/summary.json")
+kept = status["results"]
+bad = [k for k, v in kept.items() if summary.get(k) != v]
+print("study_test: %d results kept in status.json, %d differ from summary.json" % (len(kept), len(bad)))
+del status["results"]["mass_loss_mg"]
+with open("grid/case-0000/status.json", "w") as f:
+    json.dump(status, f, indent=2)
+sys.exit(1 if bad or not kept else 0)
+EOF
+if "$exe" --resume "$data/grid.prm" > missing.log 2>&1; then
+  fail "4b. a case without its mass_loss_mg was listed as done"
+fi
+python3 - "$python_dir" << 'EOF' || fail "4b. the missing result"
+import sys
+sys.path.insert(0, sys.argv[1])
+import tkr_results
+rows = {r["case"]: r for r in tkr_results.read_rows("grid/study.csv", ("case", "status", "reason"))}
+row = rows["case-0000"]
+print("study_test: case-0000 %s: %s" % (row["status"], row["reason"]))
+sys.exit(0 if row["status"] == "failed" and "has no result mass_loss_mg" in row["reason"] else 1)
+EOF
+echo "study_test: 4b. the table from the results kept in status.json; a missing one fails its case by name"
 
 # 5.
 if "$exe" "$data/wrong.prm" > wrong.log 2>&1; then
