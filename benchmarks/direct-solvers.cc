@@ -4,7 +4,8 @@
 // Direct solvers for the stiffness matrix of a mesh: factorisation time and
 // the time of many right-hand sides at once, as the condensed active set
 // uses them (doc/performance.md).
-//   (built with the Release build)
+//   cmake --build build/release --target direct-solvers (scripts/run-tests
+//   builds it)
 //   build/release/direct-solvers FILE.prm SOLVER [N_RHS]
 // from the project root (where the parameter file's mesh path starts), with
 // SOLVER one of

@@ -6,7 +6,8 @@
 // 0 % pose), optionally the femur moved by DZ along z and then rotated by
 // FLEXION degrees about the x axis through (y, z) = (-2, 53.001) (the
 // flexion axis of the TKR A meshes).
-//   (built with the Release build)
+//   cmake --build build/release --target mortar-coupling (scripts/run-tests
+//   builds it)
 //   build/release/mortar-coupling FILE.msh [N_CALLS [SEARCH_DISTANCE [DZ
 //   [FLEXION [WINDOW]]]]]
 // Prints the coupling statistics and the mean wall time of one call. With
