@@ -43,6 +43,9 @@ namespace
     using namespace TKR;
     const Parameters::AllParameters parameters =
       Parameters::read_parameters(filename);
+    if (dealii::Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+      for (const std::string &note : parameters.notes)
+        std::cout << "Note: " << note << std::endl;
     AssertThrow(!resume ||
                   parameters.problem == Parameters::ProblemType::wear ||
                   parameters.problem == Parameters::ProblemType::study,

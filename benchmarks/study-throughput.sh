@@ -26,7 +26,7 @@ subsection Study
   set Sampling = latin hypercube
   set Samples = 8
   set Seed = 8
-  set Distributions = Wear/Wear coefficient *= uniform(0.8, 1.2); \\
+  set Distributions = Wear/Archard/Wear coefficient *= uniform(0.8, 1.2); \\
                       Materials/Tibia/Young's modulus *= uniform(0.8, 1.2)
 end
 subsection Output

@@ -53,12 +53,12 @@ run() {
   # TKR B with the default 2 mm search distance leaves one stance step per
   # cycle unconverged from block 60 on (doc/results.md); 6 mm runs clean.
   [ "$variant" = b ] && printf 'subsection Contact solver\n  set Search distance = 6\nend\n' >> "$prm"
-  local table=""
-  [ "$law" = archard_cs ] && table=$root/data/wear/example-archard-cs.csv
-  [ "$law" = area ] && table=$root/data/wear/example-area-law.csv
+  local table="" subsection=""
+  [ "$law" = archard_cs ] && table=$root/data/wear/example-archard-cs.csv && subsection="Archard cs"
+  [ "$law" = area ] && table=$root/data/wear/example-area-law.csv && subsection="Area"
   {
     printf 'subsection Wear\n  set Wear law = %s\n' "$law"
-    [ -n "$table" ] && printf '  set Cross-shear table = %s\n' "$table"
+    [ -n "$table" ] && printf '  subsection %s\n    set Cross-shear table = %s\n  end\n' "$subsection" "$table"
     [ -n "$run_in" ] && printf '  set Run-in file = %s\n' "$root/data/wear/example-run-in.csv"
     printf 'end\n'
   } >> "$prm"

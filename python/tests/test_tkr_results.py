@@ -140,7 +140,7 @@ def test_check_headers(tmp_path):
     assert tkr_results.check_file(write(tmp_path / "steps.csv", force + "\n")) == []
     mixed = force + ",ap_reaction_N"
     assert "not those of one protocol" in tkr_results.check_file(write(tmp_path / "steps.csv", mixed))[0]
-    study = "case,Wear/Wear coefficient,status,mass_loss_mg,reason\n"
+    study = "case,Wear/Archard/Wear coefficient,status,mass_loss_mg,reason\n"
     assert tkr_results.check_file(write(tmp_path / "study.csv", study)) == []
     assert tkr_results.check_file(write(tmp_path / "wear_map.csv", "x,y,z,depth\n")) == [
         f"{tmp_path}/wear_map.csv: column depth is not documented in doc/output.md"

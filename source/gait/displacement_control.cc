@@ -27,19 +27,27 @@ namespace TKR::Gait
                                                "ap_displacement_mm",
                                                "ie_rotation_deg"};
 
-    /** The gait parameters without the AP and IE restraints. */
-    Parameters::Gait
-    without_restraints(Parameters::Gait parameters)
-    {
-      parameters.ap_spring_stiffness        = 0;
-      parameters.ap_spring_stiffness_beyond = 0;
-      parameters.ie_spring_stiffness        = 0;
-      parameters.ie_spring_stiffness_beyond = 0;
-      return parameters;
-    }
-
     /** The pose's numbers: the tray's x and z (mm). */
     constexpr unsigned int pose_size = 2;
+
+    /** The signs' entries (`Gait/Displacement control`). */
+    void
+    declare_signs(ParameterHandler &prm)
+    {
+      prm.declare_entry("AP displacement sign",
+                        "1",
+                        Patterns::Selection("1|-1"),
+                        "Multiplies the tabulated AP displacement: +1 keeps "
+                        "the table's convention (positive = the tibia moved "
+                        "anteriorly, +y, mm).");
+      prm.declare_entry("IE rotation sign",
+                        "1",
+                        Patterns::Selection("1|-1"),
+                        "Multiplies the tabulated IE rotation: +1 keeps the "
+                        "table's convention (positive = internal rotation of "
+                        "the tibia, deg, about the vertical axis through the "
+                        "centroid of tibia_inferior).");
+    }
 
     [[maybe_unused]] const bool registered = Protocols::add(
       {"displacement",
@@ -47,19 +55,33 @@ namespace TKR::Gait
        "displacement and IE rotation prescribed, the axial force applied; "
        "the tray's axial and medial-lateral position solved, no restraint "
        "springs; the AP force and IE torque that hold the tray reported per "
-       "step; needs Tibial tray = rigid)",
+       "step; needs Tibial tray = rigid; signs in Gait/Displacement "
+       "control)",
+       {"Displacement control",
+        declare_signs,
+        [](const ParameterHandler &prm) -> std::any {
+          return DisplacementSigns{prm.get_double("AP displacement sign"),
+                                   prm.get_double("IE rotation sign")};
+        },
+        {},
+        {"AP displacement sign", "IE rotation sign"}},
        [](const Parameters::Gait &parameters,
           const InferiorSurface  &surface) -> std::unique_ptr<Protocol> {
-         return std::make_unique<DisplacementControl>(parameters, surface);
+         return std::make_unique<DisplacementControl>(
+           parameters,
+           parameters.protocols.get<DisplacementSigns>("displacement"),
+           surface);
        }});
   } // namespace
 
-  DisplacementControl::DisplacementControl(const Parameters::Gait &parameters,
-                                           const InferiorSurface  &surface)
+  DisplacementControl::DisplacementControl(const Parameters::Gait  &parameters,
+                                           const DisplacementSigns &signs,
+                                           const InferiorSurface   &surface)
     : parameters(parameters)
+    , signs(signs)
     , table(parameters.waveform_file, channels, parameters.channel_scales)
-    , gait_loads(without_restraints(parameters), surface)
-    , tibia_pose(without_restraints(parameters), gait_loads)
+    , gait_loads(parameters, Restraints(), surface)
+    , tibia_pose(parameters, gait_loads)
   {
     AssertThrow(parameters.rigid_tray,
                 ExcInputError(
@@ -140,10 +162,10 @@ namespace TKR::Gait
   {
     AssertDimension(input.values.size(), 4);
     PoseState state;
-    state.translation[1] = parameters.ap_displacement_sign * input.values[2] -
-                           parameters.femur_ap_offset;
-    state.rotation = -parameters.medial_direction *
-                     parameters.ie_rotation_sign * input.values[3];
+    state.translation[1] =
+      signs.ap_displacement_sign * input.values[2] - parameters.femur_ap_offset;
+    state.rotation =
+      -parameters.medial_direction * signs.ie_rotation_sign * input.values[3];
     if (!pose.empty())
       {
         AssertDimension(pose.values.size(), pose_size);

@@ -24,22 +24,117 @@ namespace TKR::Gait
                                                "ap_force_N",
                                                "ie_torque_Nm"};
 
+    /** The restraints' entries (`Gait/Force control`). */
+    void
+    declare_restraints(ParameterHandler &prm)
+    {
+      prm.declare_entry("AP spring stiffness",
+                        "9.3",
+                        Patterns::Double(0),
+                        "Anterior-posterior restraint spring, N/mm (within "
+                        "the AP spring range).");
+      prm.declare_entry("AP spring range",
+                        "2.5",
+                        Patterns::Double(0),
+                        "The AP restraint has the AP spring stiffness within "
+                        "+- this AP translation of the tibia (mm) and the "
+                        "AP spring stiffness beyond range outside it "
+                        "(ISO 14243-1:2009 two-rate law, values as commonly "
+                        "cited).");
+      prm.declare_entry("AP spring stiffness beyond range",
+                        "44",
+                        Patterns::Double(0),
+                        "AP restraint stiffness beyond the AP spring range, "
+                        "N/mm. Equal to the AP spring stiffness: a linear "
+                        "spring.");
+      prm.declare_entry("IE spring stiffness",
+                        "130",
+                        Patterns::Double(0),
+                        "Internal-external rotation restraint spring, "
+                        "N mm/deg (within the IE spring range).");
+      prm.declare_entry("IE spring range",
+                        "6",
+                        Patterns::Double(0),
+                        "The IE restraint has the IE spring stiffness within "
+                        "+- this rotation of the tibia about the axial "
+                        "direction (deg) and the IE spring stiffness beyond "
+                        "range outside it.");
+      prm.declare_entry("IE spring stiffness beyond range",
+                        "360",
+                        Patterns::Double(0),
+                        "IE restraint stiffness beyond the IE spring range, "
+                        "N mm/deg. Equal to the IE spring stiffness: a "
+                        "linear spring.");
+      prm.declare_entry("AP force sign",
+                        "1",
+                        Patterns::Selection("1|-1"),
+                        "Multiplies the tabulated AP force: +1 keeps the "
+                        "table's convention (positive = force on the tibia "
+                        "towards anterior, +y).");
+      prm.declare_entry("IE torque sign",
+                        "1",
+                        Patterns::Selection("1|-1"),
+                        "Multiplies the tabulated IE torque: +1 keeps the "
+                        "table's convention (positive = internal rotation of "
+                        "the tibia).");
+    }
+
+    /** The restraints from `Gait/Force control`. */
+    std::any
+    parse_restraints(const ParameterHandler &prm)
+    {
+      Restraints r;
+      r.ap_spring_stiffness = prm.get_double("AP spring stiffness");
+      r.ap_spring_range     = prm.get_double("AP spring range");
+      r.ap_spring_stiffness_beyond =
+        prm.get_double("AP spring stiffness beyond range");
+      r.ie_spring_stiffness = prm.get_double("IE spring stiffness");
+      r.ie_spring_range     = prm.get_double("IE spring range");
+      r.ie_spring_stiffness_beyond =
+        prm.get_double("IE spring stiffness beyond range");
+      r.ap_force_sign  = prm.get_double("AP force sign");
+      r.ie_torque_sign = prm.get_double("IE torque sign");
+      AssertThrow(r.ap_spring_stiffness_beyond >= r.ap_spring_stiffness &&
+                    r.ie_spring_stiffness_beyond >= r.ie_spring_stiffness,
+                  ExcInputError("Gait/Force control: a spring stiffness "
+                                "beyond range must not be smaller than the "
+                                "one within it."));
+      return r;
+    }
+
     [[maybe_unused]] const bool registered = Protocols::add(
       {"force",
        "ISO 14243-1 force control (flexion prescribed; axial force, AP force "
        "and IE torque applied to the tibia, held by the AP and IE "
-       "restraints; the tibia's pose solved in every step)",
+       "restraints of Gait/Force control; the tibia's pose solved in every "
+       "step)",
+       {"Force control",
+        declare_restraints,
+        parse_restraints,
+        {},
+        {"AP spring stiffness",
+         "AP spring range",
+         "AP spring stiffness beyond range",
+         "IE spring stiffness",
+         "IE spring range",
+         "IE spring stiffness beyond range",
+         "AP force sign",
+         "IE torque sign"}},
        [](const Parameters::Gait &parameters,
           const InferiorSurface  &surface) -> std::unique_ptr<Protocol> {
-         return std::make_unique<ForceControl>(parameters, surface);
+         return std::make_unique<ForceControl>(
+           parameters,
+           parameters.protocols.get<Restraints>("force"),
+           surface);
        }});
   } // namespace
 
   ForceControl::ForceControl(const Parameters::Gait &parameters,
+                             const Restraints       &restraints,
                              const InferiorSurface  &surface)
     : parameters(parameters)
     , table(parameters.waveform_file, channels, parameters.channel_scales)
-    , gait_loads(parameters, surface)
+    , gait_loads(parameters, restraints, surface)
     , tibia_pose(parameters, gait_loads)
   {}
 
@@ -217,15 +312,16 @@ namespace TKR::Gait
                            Pose               &pose_values,
                            const ContactSolve &solve) const
   {
-    const double force_scale = 1. / parameters.ap_spring_stiffness_beyond;
+    const Restraints &restraints  = gait_loads.restraints();
+    const double      force_scale = 1. / restraints.ap_spring_stiffness_beyond;
     // The rotation tolerance is the pose tolerance at the insert's rim.
     const double torque_scale = 0.5 * gait_loads.inferior_surface().width *
                                 numbers::PI / 180. /
-                                parameters.ie_spring_stiffness_beyond;
+                                restraints.ie_spring_stiffness_beyond;
     const double force_weight =
-      parameters.ap_spring_stiffness / parameters.ap_spring_stiffness_beyond;
+      restraints.ap_spring_stiffness / restraints.ap_spring_stiffness_beyond;
     const double torque_weight =
-      parameters.ie_spring_stiffness / parameters.ie_spring_stiffness_beyond;
+      restraints.ie_spring_stiffness / restraints.ie_spring_stiffness_beyond;
 
     // The rotation at the insert's rim (mm per degree).
     const double rim =
@@ -264,9 +360,9 @@ namespace TKR::Gait
         // reached inside the inner range (the excess is flat there: its
         // Newton step), k / k_beyond of the way beyond it.
         const bool force_inside =
-          std::abs(position) <= parameters.ap_spring_range;
+          std::abs(position) <= restraints.ap_spring_range;
         const bool torque_inside =
-          std::abs(rotation) <= parameters.ie_spring_range;
+          std::abs(rotation) <= restraints.ie_spring_range;
         const PoseUpdate::Vector q({pose.translation[0],
                                     pose.translation[1],
                                     pose.translation[2],

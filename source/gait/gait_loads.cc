@@ -74,8 +74,10 @@ namespace TKR::Gait
   }
 
   GaitLoads::GaitLoads(const Parameters::Gait &parameters,
+                       const Restraints       &restraints,
                        const InferiorSurface  &surface)
     : parameters(parameters)
+    , restraint(restraints)
     , surface(surface)
   {
     AssertThrow(surface.area > 0 && surface.J > 0,
@@ -89,8 +91,8 @@ namespace TKR::Gait
     // -a: the springs' force -K (d + a) is -K d plus the constant -K a.
     return Tensor<1, 3>(
       {0.,
-       parameters.ap_force_sign * state.ap_force -
-         parameters.ap_spring_stiffness * parameters.femur_ap_offset,
+       restraint.ap_force_sign * state.ap_force -
+         restraint.ap_spring_stiffness * parameters.femur_ap_offset,
        state.axial_force});
   }
 
@@ -105,7 +107,7 @@ namespace TKR::Gait
     return Tensor<1, 3>({0.,
                          -e * state.axial_force,
                          -parameters.medial_direction *
-                           parameters.ie_torque_sign * 1e3 * state.ie_torque});
+                           restraint.ie_torque_sign * 1e3 * state.ie_torque});
   }
 
   // With dx, dy measured from the centroid: the traction
@@ -159,8 +161,8 @@ namespace TKR::Gait
     const double   A    = surface.area;
     const Point<3> c    = surface.centroid;
     const double   k_x  = parameters.ml_spring_stiffness / A;
-    const double   K_ap = parameters.ap_spring_stiffness;
-    const double   K_ie = parameters.ie_spring_stiffness * 180. / numbers::PI;
+    const double   K_ap = restraint.ap_spring_stiffness;
+    const double   K_ie = restraint.ie_spring_stiffness * 180. / numbers::PI;
     const double   beta =
       std::max(0.,
                (K_ie - k_x * surface.I_yy - K_ap * surface.I_xx / A) /
@@ -196,18 +198,18 @@ namespace TKR::Gait
   GaitLoads::ap_restraint_excess(const double d) const
   {
     return excess(d + parameters.femur_ap_offset,
-                  parameters.ap_spring_range,
-                  parameters.ap_spring_stiffness,
-                  parameters.ap_spring_stiffness_beyond);
+                  restraint.ap_spring_range,
+                  restraint.ap_spring_stiffness,
+                  restraint.ap_spring_stiffness_beyond);
   }
 
   double
   GaitLoads::ie_restraint_excess(const double theta) const
   {
     return excess(theta,
-                  parameters.ie_spring_range,
-                  parameters.ie_spring_stiffness,
-                  parameters.ie_spring_stiffness_beyond);
+                  restraint.ie_spring_range,
+                  restraint.ie_spring_stiffness,
+                  restraint.ie_spring_stiffness_beyond);
   }
 
   Elasticity::BoundaryLoads::TractionField

@@ -11,8 +11,8 @@
 #include <tkr/base/exceptions.h>
 #include <tkr/base/mpi.h>
 #include <tkr/output/checkpoint.h>
-#include <tkr/wear/wear_law.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -20,7 +20,6 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
-#include <set>
 #include <sstream>
 
 namespace TKR::Output
@@ -92,137 +91,6 @@ namespace TKR::Output
     return directory + "/checkpoint.h5";
   }
 
-  namespace
-  {
-    /** FNV-1a (64 bit) of the bytes of @p file, in hex ("" if unreadable). */
-    std::string
-    checksum(const std::string &file)
-    {
-      std::ifstream in(file, std::ios::binary);
-      if (!in.good())
-        return "";
-      std::uint64_t hash = 14695981039346656037ull;
-      char          c;
-      while (in.get(c))
-        {
-          hash ^= static_cast<unsigned char>(c);
-          hash *= 1099511628211ull;
-        }
-      std::ostringstream text;
-      text << std::hex << std::setw(16) << std::setfill('0') << hash;
-      return text.str();
-    }
-
-    /** The state parameters as "entry = value" lines. */
-    std::string
-    to_text(const std::map<std::string, std::string> &entries)
-    {
-      std::string text;
-      for (const auto &[entry, value] : entries)
-        text += entry + " = " + value + "\n";
-      return text;
-    }
-
-    /** The lines of to_text() back as entries. */
-    std::map<std::string, std::string>
-    from_text(const std::string &text)
-    {
-      std::map<std::string, std::string> entries;
-      std::istringstream                 in(text);
-      std::string                        line;
-      while (std::getline(in, line))
-        if (const auto equals = line.find(" = "); equals != std::string::npos)
-          entries[line.substr(0, equals)] = line.substr(equals + 3);
-      return entries;
-    }
-
-    /**
-     * State entries added to the program after checkpoints were first
-     * written, with the value that means what a checkpoint without the entry
-     * did (the behaviour before the entry existed).
-     */
-    const std::map<std::string, std::string> &
-    entries_added_later()
-    {
-      static const std::map<std::string, std::string> added = {
-        {"Wear/Cross-shear table (checksum)", ""},
-        {"Wear/Run-in file (checksum)", ""},
-        {"Gait/AP displacement sign", "1"},
-        {"Gait/IE rotation sign", "1"},
-        {"Gait/Femur AP offset", "0"},
-        {"Gait/Channel scales", ""}};
-      return added;
-    }
-
-    /** Refuse a checkpoint whose state parameters differ from @p now. */
-    void
-    check_parameters(const std::string                        &filename,
-                     const std::map<std::string, std::string> &then,
-                     const std::map<std::string, std::string> &now)
-    {
-      for (const auto &[entry, value] : now)
-        {
-          const auto it = then.find(entry);
-          if (it == then.end())
-            if (const auto added = entries_added_later().find(entry);
-                added != entries_added_later().end() && added->second == value)
-              continue;
-          if (it != then.end() && it->second == value)
-            continue;
-          const auto shown = [](const std::string &v) {
-            return v.empty() ? std::string("(empty)") : v;
-          };
-          AssertThrow(
-            false,
-            ExcInputError(
-              "--resume: the checkpoint <" + filename + "> was written with " +
-              entry + " = " +
-              (it == then.end() ? "(not recorded)" : shown(it->second)) +
-              ", but the parameter file sets " + shown(value) +
-              ". A run can only be resumed with the entries that "
-              "determine its wear state unchanged (doc/wear.md, Restart); "
-              "change it back, or start a new run in another "
-              "Output/Directory."));
-        }
-    }
-  } // namespace
-
-  std::map<std::string, std::string>
-  state_parameters(const Parameters::AllParameters &parameters)
-  {
-    std::map<std::string, std::string> state;
-    const auto starts_with = [](const std::string &s, const std::string &p) {
-      return s.rfind(p, 0) == 0;
-    };
-    // The wear laws' input files count by their content (checksum), for
-    // the law of the run; their paths (of any law) do not count.
-    std::set<std::string> law_files;
-    for (const std::string &name :
-         Utilities::split_string_list(Wear::WearLaws::names("|"), '|'))
-      if (const auto &files = Wear::WearLaws::get(name, "Wear/Wear law").files)
-        for (const auto &[entry, path] : files(parameters.wear))
-          law_files.insert("Wear/" + entry);
-    for (const auto &[entry, value] : parameters.entries)
-      if ((starts_with(entry, "Mesh/") && entry != "Mesh/File") ||
-          starts_with(entry, "Materials/") ||
-          (starts_with(entry, "Gait/") && entry != "Gait/Step groups" &&
-           entry != "Gait/Waveform file" && entry != "Gait/Pose solver") ||
-          (starts_with(entry, "Wear/") && entry != "Wear/Cycles" &&
-           entry != "Wear/Distortion limit" &&
-           entry != "Wear/Halve step on distortion" &&
-           entry != "Wear/Run-in file" && law_files.count(entry) == 0))
-        state[entry] = value;
-    state["Mesh/File (checksum)"] = checksum(parameters.mesh.file);
-    state["Gait/Waveform file (checksum)"] =
-      checksum(parameters.gait.waveform_file);
-    state["Wear/Run-in file (checksum)"] =
-      checksum(parameters.wear.run_in_file);
-    const auto &law = Wear::WearLaws::get(parameters.wear.law, "Wear/Wear law");
-    if (law.files)
-      for (const auto &[entry, path] : law.files(parameters.wear))
-        state["Wear/" + entry + " (checksum)"] = checksum(path);
-    return state;
-  }
 
   namespace
   {
@@ -443,9 +311,9 @@ namespace TKR::Output
                                 std::to_string(version) + ", this one reads " +
                                 std::to_string(oldest_format) + " to " +
                                 std::to_string(format_version) + ")."));
-      check_parameters(filename,
-                       from_text(file.get_attribute<std::string>("parameters")),
-                       state_parameters(parameters));
+      check_state_parameters(filename,
+                             file.get_attribute<std::string>("parameters"),
+                             parameters);
     }
   } // namespace
 
@@ -462,8 +330,7 @@ namespace TKR::Output
           [&](const std::string &temporary) {
             HDF5::File file(temporary, HDF5::File::FileAccessMode::create);
             file.set_attribute("format_version", format_version);
-            file.set_attribute("parameters",
-                               to_text(state_parameters(parameters)));
+            file.set_attribute("parameters", state_parameters_text(parameters));
             write_counters(file, state);
             const hsize_t n_vertices = state.depth.size();
             write_dataset(file,

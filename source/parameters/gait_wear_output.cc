@@ -27,7 +27,8 @@ namespace TKR::Parameters
         "force",
         Patterns::Selection(TKR::Gait::Protocols::names()),
         TKR::Gait::Protocols::documentation(
-          "The gait protocol, how the simulator drives the knee: ") +
+          "The gait protocol, how the simulator drives the knee (its own "
+          "entries in its subsection below): ") +
           " The waveform file must have the protocol's columns "
           "(doc/gait.md).");
       prm.declare_entry(
@@ -62,7 +63,7 @@ namespace TKR::Parameters
                         "knees differ).");
     }
 
-    /** The loads on the tibia and its restraints (force control). */
+    /** The axial load's line of action. */
     void
     declare_gait_loads(ParameterHandler &prm)
     {
@@ -71,43 +72,6 @@ namespace TKR::Parameters
                         Patterns::Double(-0.5, 0.5),
                         "Medial offset of the axial load line, as a fraction "
                         "of the medial-lateral width of the insert.");
-      prm.declare_entry("AP spring stiffness",
-                        "9.3",
-                        Patterns::Double(0),
-                        "Anterior-posterior restraint spring, N/mm (within "
-                        "the AP spring range).");
-      prm.declare_entry("IE spring stiffness",
-                        "130",
-                        Patterns::Double(0),
-                        "Internal-external rotation restraint spring, "
-                        "N mm/deg (within the IE spring range).");
-      prm.declare_entry("AP spring range",
-                        "2.5",
-                        Patterns::Double(0),
-                        "The AP restraint has the AP spring stiffness within "
-                        "+- this AP translation of the tibia (mm) and the "
-                        "AP spring stiffness beyond range outside it "
-                        "(ISO 14243-1:2009 two-rate law, values as commonly "
-                        "cited).");
-      prm.declare_entry("AP spring stiffness beyond range",
-                        "44",
-                        Patterns::Double(0),
-                        "AP restraint stiffness beyond the AP spring range, "
-                        "N/mm. Equal to the AP spring stiffness: a linear "
-                        "spring.");
-      prm.declare_entry("IE spring range",
-                        "6",
-                        Patterns::Double(0),
-                        "The IE restraint has the IE spring stiffness within "
-                        "+- this rotation of the tibia about the axial "
-                        "direction (deg) and the IE spring stiffness beyond "
-                        "range outside it.");
-      prm.declare_entry("IE spring stiffness beyond range",
-                        "360",
-                        Patterns::Double(0),
-                        "IE restraint stiffness beyond the IE spring range, "
-                        "N mm/deg. Equal to the IE spring stiffness: a "
-                        "linear spring.");
     }
 
     /** The tibia's pose solve, its tray and the parallel steps. */
@@ -181,32 +145,6 @@ namespace TKR::Parameters
                         "14243-1 (the tibia is free medial-laterally and "
                         "held by the conformity of the insert); a small "
                         "value stabilises very flat inserts.");
-      prm.declare_entry("AP force sign",
-                        "1",
-                        Patterns::Selection("1|-1"),
-                        "Multiplies the tabulated AP force: +1 keeps the "
-                        "table's convention (positive = force on the tibia "
-                        "towards anterior, +y).");
-      prm.declare_entry("IE torque sign",
-                        "1",
-                        Patterns::Selection("1|-1"),
-                        "Multiplies the tabulated IE torque: +1 keeps the "
-                        "table's convention (positive = internal rotation of "
-                        "the tibia).");
-      prm.declare_entry("AP displacement sign",
-                        "1",
-                        Patterns::Selection("1|-1"),
-                        "Control = displacement: multiplies the tabulated AP "
-                        "displacement: +1 keeps the table's convention "
-                        "(positive = the tibia moved anteriorly, +y, mm).");
-      prm.declare_entry("IE rotation sign",
-                        "1",
-                        Patterns::Selection("1|-1"),
-                        "Control = displacement: multiplies the tabulated IE "
-                        "rotation: +1 keeps the table's convention (positive "
-                        "= internal rotation of the tibia, deg, about the "
-                        "vertical axis through the centroid of "
-                        "tibia_inferior).");
       prm.declare_entry(
         "Femur AP offset",
         "0",
@@ -241,6 +179,7 @@ namespace TKR::Parameters
       declare_gait_loads(prm);
       declare_gait_pose(prm);
       declare_gait_adjustments(prm);
+      TKR::Gait::Protocols::declare_parameters(prm);
     }
     prm.leave_subsection();
   }
@@ -250,36 +189,21 @@ namespace TKR::Parameters
   {
     prm.enter_subsection("Gait");
     {
-      control             = prm.get("Control");
-      waveform_file       = prm.get("Waveform file");
-      steps_per_cycle     = prm.get_integer("Steps per cycle");
-      flexion_axis_point  = Point<3>(get_vector(prm, "Flexion axis point"));
-      medial_direction    = (prm.get("Medial side") == "+x" ? 1 : -1);
-      axial_load_offset   = prm.get_double("Axial load offset");
-      ap_spring_stiffness = prm.get_double("AP spring stiffness");
-      ie_spring_stiffness = prm.get_double("IE spring stiffness");
-      ap_spring_range     = prm.get_double("AP spring range");
-      ap_spring_stiffness_beyond =
-        prm.get_double("AP spring stiffness beyond range");
-      ie_spring_range = prm.get_double("IE spring range");
-      ie_spring_stiffness_beyond =
-        prm.get_double("IE spring stiffness beyond range");
-      AssertThrow(ap_spring_stiffness_beyond >= ap_spring_stiffness &&
-                    ie_spring_stiffness_beyond >= ie_spring_stiffness,
-                  ExcInputError("Gait: a spring stiffness beyond range must "
-                                "not be smaller than the one within it."));
-      ml_spring_stiffness        = prm.get_double("ML spring stiffness");
-      step_groups                = prm.get_integer("Step groups");
-      rigid_tray                 = (prm.get("Tibial tray") == "rigid");
-      tray_flatness_tolerance    = prm.get_double("Tray flatness tolerance");
+      control                 = prm.get("Control");
+      waveform_file           = prm.get("Waveform file");
+      steps_per_cycle         = prm.get_integer("Steps per cycle");
+      flexion_axis_point      = Point<3>(get_vector(prm, "Flexion axis point"));
+      medial_direction        = (prm.get("Medial side") == "+x" ? 1 : -1);
+      axial_load_offset       = prm.get_double("Axial load offset");
+      ml_spring_stiffness     = prm.get_double("ML spring stiffness");
+      step_groups             = prm.get_integer("Step groups");
+      rigid_tray              = (prm.get("Tibial tray") == "rigid");
+      tray_flatness_tolerance = prm.get_double("Tray flatness tolerance");
       axial_stabilisation_spring = prm.get_double("Axial stabilisation spring");
       pose_tolerance             = prm.get_double("Pose tolerance");
       coupled_pose               = (prm.get("Pose solver") == "coupled");
-      ap_force_sign              = prm.get_double("AP force sign");
-      ie_torque_sign             = prm.get_double("IE torque sign");
-      ap_displacement_sign       = prm.get_double("AP displacement sign");
-      ie_rotation_sign           = prm.get_double("IE rotation sign");
       femur_ap_offset            = prm.get_double("Femur AP offset");
+      protocols                  = TKR::Gait::Protocols::parse_parameters(prm);
       channel_scales.clear();
       for (const std::string &pair :
            Utilities::split_string_list(prm.get("Channel scales"), ','))
@@ -303,24 +227,8 @@ namespace TKR::Parameters
                         Patterns::Selection(TKR::Wear::WearLaws::names()),
                         TKR::Wear::WearLaws::documentation(
                           "How the sliding of a gait cycle wears the insert "
-                          "(doc/wear.md): "));
-      prm.declare_entry("Wear coefficient",
-                        "2e-7",
-                        Patterns::Double(0),
-                        "Archard wear coefficient k in mm^3/(N m) (Wear law "
-                        "= archard).");
-      prm.declare_entry(
-        "Cross-shear table",
-        "",
-        Patterns::FileName(),
-        "CSV file of the coefficient over the cross-shear ratio, for Wear "
-        "law = archard_cs (columns cross_shear, k_mm3_per_Nm and optionally "
-        "pressure_MPa) and area (columns cross_shear, C: dimensionless); "
-        "piecewise linear, constant beyond the first and last row "
-        "(doc/wear.md, Cross-shear tables). data/wear/ has EXAMPLE tables "
-        "only: no published coefficients are shipped. A relative path is "
-        "taken from the directory of the parameter file that sets it, then "
-        "from the working directory.");
+                          "(doc/wear.md); each law's constants are in its own "
+                          "subsection below: "));
       prm.declare_entry(
         "Run-in file",
         "",
@@ -329,7 +237,8 @@ namespace TKR::Parameters
         "the cycle count, piecewise linear and constant beyond the last row, "
         "integrated exactly over each extrapolation block (doc/wear.md, "
         "Run-in); empty: no run-in (factor 1). Any wear law. A relative path "
-        "is found as the Cross-shear table's.");
+        "is taken from the directory of the parameter file that sets it, "
+        "then from the working directory.");
     }
   } // namespace
 
@@ -339,6 +248,7 @@ namespace TKR::Parameters
     prm.enter_subsection("Wear");
     {
       declare_wear_law(prm);
+      TKR::Wear::WearLaws::declare_parameters(prm);
       prm.declare_entry("Cycles",
                         "5e6",
                         Patterns::Double(0),
@@ -394,10 +304,9 @@ namespace TKR::Parameters
   {
     prm.enter_subsection("Wear");
     {
-      law               = prm.get("Wear law");
-      wear_coefficient  = prm.get_double("Wear coefficient");
-      cross_shear_table = prm.get("Cross-shear table");
-      run_in_file       = prm.get("Run-in file");
+      law         = prm.get("Wear law");
+      run_in_file = prm.get("Run-in file");
+      laws        = TKR::Wear::WearLaws::parse_parameters(prm);
       TKR::Wear::check_wear_law(*this);
       cycles = prm.get_double("Cycles");
       cycles_per_extrapolation_step =
@@ -474,4 +383,46 @@ namespace TKR::Parameters
     prm.leave_subsection();
   }
 
+  namespace
+  {
+    /** @p list of the wear laws' registry, then of the protocols'. */
+    template <typename List>
+    auto
+    of_every_model(const List &list)
+    {
+      auto all = list(TKR::Wear::WearLaws(), "Wear");
+      for (auto &item : list(TKR::Gait::Protocols(), "Gait"))
+        all.push_back(std::move(item));
+      return all;
+    }
+  } // namespace
+
+  std::vector<std::pair<std::string, std::string>>
+  moved_entries()
+  {
+    return of_every_model([](auto registry, const std::string &kind) {
+      return decltype(registry)::moved_entries(kind);
+    });
+  }
+
+  std::vector<std::string>
+  model_file_entries()
+  {
+    return of_every_model([](auto registry, const std::string &kind) {
+      return decltype(registry)::file_entries(kind);
+    });
+  }
+
+  std::vector<std::string>
+  unselected_model_subsections(const AllParameters &parameters)
+  {
+    std::vector<std::string> unselected;
+    for (const auto &[name, path] : TKR::Wear::WearLaws::subsections("Wear"))
+      if (name != parameters.wear.law)
+        unselected.push_back(path);
+    for (const auto &[name, path] : TKR::Gait::Protocols::subsections("Gait"))
+      if (name != parameters.gait.control)
+        unselected.push_back(path);
+    return unselected;
+  }
 } // namespace TKR::Parameters

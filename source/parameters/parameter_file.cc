@@ -48,9 +48,12 @@ namespace TKR::Parameters::internal
     }
   } // namespace
 
-  ParameterText::ParameterText(const std::string &filename)
+  ParameterText::ParameterText(
+    const std::string                                      &filename,
+    const std::vector<std::pair<std::string, std::string>> &moved)
   {
     append(filename, 0);
+    rename_moved(moved);
     find_setters();
   }
 
@@ -94,12 +97,12 @@ namespace TKR::Parameters::internal
       }
   }
 
-  // The subsection path of every `set` line, as ParameterHandler reads
-  // it: `subsection NAME` opens, `end` closes, a trailing backslash joins
-  // the next line.
-  void
-  ParameterText::find_setters()
+  // ParameterHandler's reading: `subsection NAME` opens, `end` closes, a
+  // trailing backslash joins the next line.
+  std::vector<ParameterText::LogicalLine>
+  ParameterText::logical_lines() const
   {
+    std::vector<LogicalLine> lines;
     std::istringstream       in(expanded);
     std::vector<std::string> path;
     std::string              line, joined;
@@ -115,22 +118,94 @@ namespace TKR::Parameters::internal
             joined += content.substr(0, content.size() - 1) + ' ';
             continue;
           }
-        const std::string logical = Utilities::trim(joined + content);
+        LogicalLine logical{first,
+                            number,
+                            Utilities::trim(joined + content),
+                            path,
+                            ""};
         joined.clear();
-        if (logical.rfind("subsection ", 0) == 0)
-          path.push_back(collapse(logical.substr(11)));
-        else if (logical == "end" && !path.empty())
+        const std::string &text = logical.text;
+        if (text.rfind("subsection ", 0) == 0)
+          path.push_back(collapse(text.substr(11)));
+        else if (text == "end" && !path.empty())
           path.pop_back();
-        else if (logical.rfind("set ", 0) == 0 &&
-                 logical.find('=') != std::string::npos)
+        else if (text.rfind("set ", 0) == 0 &&
+                 text.find('=') != std::string::npos)
           {
-            std::string entry;
             for (const auto &name : path)
-              entry += name + '/';
-            entry += collapse(logical.substr(4, logical.find('=') - 4));
-            setter[entry] = first;
+              logical.entry += name + '/';
+            logical.entry += collapse(text.substr(4, text.find('=') - 4));
           }
+        lines.push_back(std::move(logical));
       }
+    return lines;
+  }
+
+  // A `set` of a moved entry becomes `subsection ... set ... end` lines
+  // that set each new path instead, all with the origin of the old line.
+  void
+  ParameterText::rename_moved(
+    const std::vector<std::pair<std::string, std::string>> &moved)
+  {
+    std::istringstream       in(expanded);
+    std::vector<std::string> physical;
+    for (std::string line; std::getline(in, line);)
+      physical.push_back(line);
+    std::string                                       text;
+    std::vector<std::pair<std::string, unsigned int>> where;
+    for (const LogicalLine &line : logical_lines())
+      {
+        std::vector<std::string> targets;
+        for (const auto &[from, to] : moved)
+          if (!line.entry.empty() && line.entry == from)
+            targets.push_back(to);
+        if (targets.empty())
+          {
+            for (unsigned int l = line.first; l < line.last; ++l)
+              {
+                text += physical[l] + '\n';
+                where.push_back(origin[l]);
+              }
+            continue;
+          }
+        const std::string value =
+          Utilities::trim(line.text.substr(line.text.find('=') + 1));
+        const std::string name = line.entry.substr(line.entry.rfind('/') + 1);
+        std::string       now;
+        for (const std::string &to : targets)
+          {
+            // The subsections of the new path below the line's own.
+            const auto parts = Utilities::split_string_list(to, '/');
+            for (unsigned int p = line.path.size(); p + 1 < parts.size(); ++p)
+              {
+                text += "subsection " + parts[p] + '\n';
+                where.push_back(origin[line.first]);
+              }
+            text += "set " + name + " = " + value + '\n';
+            where.push_back(origin[line.first]);
+            for (unsigned int p = line.path.size(); p + 1 < parts.size(); ++p)
+              {
+                text += "end\n";
+                where.push_back(origin[line.first]);
+              }
+            now += (now.empty() ? "" : " and ") + to;
+          }
+        notes.push_back(origin[line.first].first + ":" +
+                        std::to_string(origin[line.first].second) + " sets " +
+                        line.entry + ", which is now " + now +
+                        "; read there (write it there instead).");
+      }
+    expanded = text;
+    origin   = where;
+  }
+
+  // The subsection path of every `set` line, as ParameterHandler reads it.
+  void
+  ParameterText::find_setters()
+  {
+    for (const LogicalLine &line : logical_lines())
+      if (!line.entry.empty())
+        setter[line.entry] = line.first;
   }
 
   std::string
@@ -167,6 +242,41 @@ namespace TKR::Parameters::internal
       return "";
     return origin[it->second].first + ":" +
            std::to_string(origin[it->second].second);
+  }
+
+  namespace
+  {
+    /** Enter the subsections of @p path in @p prm; returns the entry name
+     *  and how many subsections were entered. */
+    std::pair<std::string, unsigned int>
+    enter_path(ParameterHandler &prm, const std::string &path)
+    {
+      const auto parts = Utilities::split_string_list(path, '/');
+      for (unsigned int i = 0; i + 1 < parts.size(); ++i)
+        prm.enter_subsection(parts[i]);
+      return {parts.back(), parts.size() - 1};
+    }
+  } // namespace
+
+  std::string
+  get_entry(ParameterHandler &prm, const std::string &path)
+  {
+    const auto [name, depth] = enter_path(prm, path);
+    const std::string value  = prm.get(name);
+    for (unsigned int i = 0; i < depth; ++i)
+      prm.leave_subsection();
+    return value;
+  }
+
+  void
+  set_entry(ParameterHandler  &prm,
+            const std::string &path,
+            const std::string &value)
+  {
+    const auto [name, depth] = enter_path(prm, path);
+    prm.set(name, value);
+    for (unsigned int i = 0; i < depth; ++i)
+      prm.leave_subsection();
   }
 
   // ShortPRM output is `subsection NAME`, `set NAME = VALUE` and `end`

@@ -28,8 +28,22 @@ namespace TKR::Parameters::internal
   class ParameterText
   {
   public:
-    /** Read @p filename (ExcInputError if it or an include is missing). */
-    explicit ParameterText(const std::string &filename);
+    /**
+     * Read @p filename (ExcInputError if it or an include is missing); a
+     * `set` of an entry that moved (@p moved: old path, new path; one old
+     * path may have several new ones) sets the new path(s) instead, with a
+     * note.
+     */
+    ParameterText(
+      const std::string                                      &filename,
+      const std::vector<std::pair<std::string, std::string>> &moved = {});
+
+    /** "FILE:LINE sets OLD, which is now NEW ..." per moved entry read. */
+    const std::vector<std::string> &
+    moved_notes() const
+    {
+      return notes;
+    }
 
     /** The expanded text. */
     const std::string &
@@ -65,6 +79,27 @@ namespace TKR::Parameters::internal
     void
     append(const std::string &filename, const unsigned int depth);
 
+    /** A line as ParameterHandler reads it (continuations joined). */
+    struct LogicalLine
+    {
+      /** Its lines in the text: [first, last). */
+      unsigned int first, last;
+      /** The joined line without comment, trimmed. */
+      std::string text;
+      /** The subsections it is in. */
+      std::vector<std::string> path;
+      /** The entry path a `set` line sets, else empty. */
+      std::string entry;
+    };
+
+    /** The logical lines of the text. */
+    std::vector<LogicalLine>
+    logical_lines() const;
+
+    /** Replace the `set` lines of @p moved entries (see the constructor). */
+    void
+    rename_moved(const std::vector<std::pair<std::string, std::string>> &moved);
+
     /** Record for every `set` line the entry it sets. */
     void
     find_setters();
@@ -74,7 +109,19 @@ namespace TKR::Parameters::internal
     std::vector<std::pair<std::string, unsigned int>> origin;
     /** Per entry path: the line of the text that set it last. */
     std::map<std::string, unsigned int> setter;
+    /** The notes of rename_moved(). */
+    std::vector<std::string> notes;
   };
+
+  /** The value of the entry @p path ("Subsection/.../Entry") of @p prm. */
+  std::string
+  get_entry(dealii::ParameterHandler &prm, const std::string &path);
+
+  /** Set the entry @p path of @p prm to @p value (its pattern checked). */
+  void
+  set_entry(dealii::ParameterHandler &prm,
+            const std::string        &path,
+            const std::string        &value);
 
   /** Every entry of @p prm as "Subsection/.../Entry" -> value. */
   std::map<std::string, std::string>

@@ -281,7 +281,7 @@ namespace TKR::Parameters
         Patterns::Anything(),
         "Full-factorial factors separated by ';', each PATH = v1, v2, ... "
         "with PATH an entry of the base file as Subsection/Entry (e.g. "
-        "Wear/Wear coefficient, Materials/Tibia/Young's modulus), "
+        "Wear/Archard/Wear coefficient, Materials/Tibia/Young's modulus), "
         "PATH[i] for component i of a vector entry (e.g. Gait/Flexion axis "
         "point[1]). PATH += v adds v to the base value, PATH *= v "
         "multiplies it. A factor with one value sets that entry in every "
@@ -316,7 +316,7 @@ namespace TKR::Parameters
         "Per sampled entry a distribution, separated by ';': PATH = "
         "uniform(a, b), normal(mean, sd) or log-normal(mu, sigma) (mu, "
         "sigma of ln X); PATH += ... and PATH *= ... add the sample to or "
-        "multiply the base value (e.g. Wear/Wear coefficient *= "
+        "multiply the base value (e.g. Wear/Archard/Wear coefficient *= "
         "uniform(0.8, 1.2)).");
       prm.declare_entry("Ranks per case",
                         "1",
@@ -374,7 +374,7 @@ namespace TKR::Parameters
   AllParameters
   read_parameters(const std::string &filename)
   {
-    const internal::ParameterText text(filename);
+    const internal::ParameterText text(filename, moved_entries());
     ParameterHandler              prm;
     AllParameters::declare_parameters(prm);
     try
@@ -390,6 +390,21 @@ namespace TKR::Parameters
                       "\n(tkr-wear --print-parameters lists every valid "
                       "entry with its documentation.)"));
       }
+    std::vector<std::string> files = {"Mesh/File",
+                                      "Gait/Waveform file",
+                                      "Wear/Run-in file",
+                                      "Output/Measured mass loss file",
+                                      "Study/Base parameter file",
+                                      "Study/Cases file",
+                                      "Study/Mesh generator"};
+    for (const std::string &entry : model_file_entries())
+      files.push_back(entry);
+    for (const std::string &entry : files)
+      internal::set_entry(prm,
+                          entry,
+                          internal::resolve_path(internal::get_entry(prm,
+                                                                     entry),
+                                                 text.directory_of(entry)));
     AllParameters parameters;
     try
       {
@@ -403,19 +418,7 @@ namespace TKR::Parameters
       }
     parameters.parameter_file = filename;
     parameters.entries        = internal::list_entries(prm);
-    const auto resolve = [&](std::string &path, const std::string &entry) {
-      path = internal::resolve_path(path, text.directory_of(entry));
-      parameters.entries[entry] = path;
-    };
-    resolve(parameters.mesh.file, "Mesh/File");
-    resolve(parameters.gait.waveform_file, "Gait/Waveform file");
-    resolve(parameters.wear.cross_shear_table, "Wear/Cross-shear table");
-    resolve(parameters.wear.run_in_file, "Wear/Run-in file");
-    resolve(parameters.output.measured_mass_loss_file,
-            "Output/Measured mass loss file");
-    resolve(parameters.study.base_file, "Study/Base parameter file");
-    resolve(parameters.study.cases_file, "Study/Cases file");
-    resolve(parameters.study.mesh_generator, "Study/Mesh generator");
+    parameters.notes          = text.moved_notes();
     for (const auto &entry : parameters.entries)
       if (const std::string place = text.place_of(entry.first); !place.empty())
         parameters.places[entry.first] = place;

@@ -162,6 +162,21 @@ namespace TKR::Problems
       std::smatch             match;
       const bool indexed = std::regex_match(setting.input, match, component);
       const std::string path = indexed ? match[1].str() : setting.input;
+      // An entry that moved into a model's subsection (e.g. Wear/Wear
+      // coefficient, now Wear/Archard/Wear coefficient) sets its new
+      // path(s).
+      bool moved = false;
+      for (const auto &[from, to] : Parameters::moved_entries())
+        if (path == from)
+          {
+            Setting renamed = setting;
+            renamed.input =
+              to + (indexed ? "[" + match[2].str() + "]" : std::string());
+            apply(renamed, value, base, study_case);
+            moved = true;
+          }
+      if (moved)
+        return;
       const std::string what = "Study " + setting.place + ": " +
                                study_case.name + " sets <" + setting.input +
                                "> " + setting.op + " <" + value + ">";

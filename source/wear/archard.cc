@@ -23,15 +23,34 @@ namespace TKR::Wear
 
   namespace
   {
+    ModelEntries
+    archard_entries()
+    {
+      return {"Archard",
+              [](dealii::ParameterHandler &prm) {
+                prm.declare_entry("Wear coefficient",
+                                  "2e-7",
+                                  dealii::Patterns::Double(0),
+                                  "Archard wear coefficient k in "
+                                  "mm^3/(N m) (Wear law = archard).");
+              },
+              [](const dealii::ParameterHandler &prm) -> std::any {
+                return ArchardParameters{prm.get_double("Wear coefficient")};
+              },
+              {},
+              {"Wear coefficient"}};
+    }
+
     [[maybe_unused]] const bool registered = WearLaws::add(
       {"archard",
        "Archard's law with the constant Wear coefficient k, depth rate k p "
        "|v_t| (the reference paper's model)",
+       archard_entries(),
        nothing_missing,
        [](const Parameters::Wear &parameters) -> std::unique_ptr<WearLaw> {
-         return std::make_unique<ArchardWear>(parameters.wear_coefficient);
-       },
-       nullptr});
+         return std::make_unique<ArchardWear>(
+           parameters.laws.get<ArchardParameters>("archard").wear_coefficient);
+       }});
   } // namespace
 
   double

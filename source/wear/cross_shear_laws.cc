@@ -10,48 +10,87 @@ namespace TKR::Wear
 {
   namespace
   {
-    /** The laws with a coefficient over the cross-shear need its table. */
-    std::string
-    table_missing(const Parameters::Wear &parameters)
+    /** The table of the law @p name (its own entries). */
+    const std::string &
+    table_of(const Parameters::Wear &parameters, const std::string &name)
     {
-      return parameters.cross_shear_table.empty() ?
-               "Wear/Wear law = " + parameters.law +
-                 " needs Wear/Cross-shear table, a CSV file of its "
-                 "coefficient over the cross-shear (doc/wear.md; data/wear/ "
-                 "has example tables)." :
-               "";
+      return parameters.laws.get<CrossShearLawParameters>(name)
+        .cross_shear_table;
     }
 
-    /** Their input file: the table, guarded by a checkpoint. */
-    WearLawPlugin::Files
-    table_file(const Parameters::Wear &parameters)
+    /**
+     * The entries of a law with a table of its coefficient over the
+     * cross-shear: `Wear/@p subsection/Cross-shear table`, whose columns
+     * are @p columns.
+     */
+    ModelEntries
+    table_entries(const std::string &subsection, const std::string &columns)
     {
-      return {{"Cross-shear table", parameters.cross_shear_table}};
+      return {
+        subsection,
+        [columns](dealii::ParameterHandler &prm) {
+          prm.declare_entry(
+            "Cross-shear table",
+            "",
+            dealii::Patterns::FileName(),
+            "CSV file of the law's coefficient over the cross-shear ratio "
+            "(columns " +
+              columns +
+              "); piecewise linear, constant beyond the first and last row "
+              "(doc/wear.md, Cross-shear tables). The cross-shear column "
+              "is a ratio from 0 to 0.5. data/wear/ has EXAMPLE tables "
+              "only: no published coefficients are shipped. A relative "
+              "path is taken from the directory of the parameter file that "
+              "sets it, then from the working directory.");
+        },
+        [](const dealii::ParameterHandler &prm) -> std::any {
+          return CrossShearLawParameters{prm.get("Cross-shear table")};
+        },
+        {"Cross-shear table"},
+        {"Cross-shear table"}};
+    }
+
+    /** The laws with a coefficient over the cross-shear need its table. */
+    std::function<std::string(const Parameters::Wear &)>
+    table_missing(const std::string &name, const std::string &subsection)
+    {
+      return [name, subsection](const Parameters::Wear &parameters) {
+        return table_of(parameters, name).empty() ?
+                 "Wear/Wear law = " + name + " needs Wear/" + subsection +
+                   "/Cross-shear table, a CSV file of its coefficient over "
+                   "the cross-shear (doc/wear.md; data/wear/ has example "
+                   "tables)." :
+                 "";
+      };
     }
 
     [[maybe_unused]] const bool archard_cs_registered = WearLaws::add(
       {"archard_cs",
-       "Archard's law with k from the Cross-shear table as a function of "
-       "each node's cross-shear over the cycle (and of the pressure if the "
-       "table has a pressure_MPa column)",
-       table_missing,
+       "Archard's law with k from its Cross-shear table (Wear/Archard cs) "
+       "as a function of each node's cross-shear over the cycle (and of the "
+       "pressure if the table has a pressure_MPa column)",
+       table_entries("Archard cs",
+                     "cross_shear, k_mm3_per_Nm in mm^3/(N m) and optionally "
+                     "pressure_MPa"),
+       table_missing("archard_cs", "Archard cs"),
        [](const Parameters::Wear &parameters) -> std::unique_ptr<WearLaw> {
          return std::make_unique<ArchardCrossShearWear>(
-           CrossShearTable(parameters.cross_shear_table, "k_mm3_per_Nm", true));
-       },
-       table_file});
+           CrossShearTable(table_of(parameters, "archard_cs"),
+                           "k_mm3_per_Nm",
+                           true));
+       }});
 
     [[maybe_unused]] const bool area_registered = WearLaws::add(
       {"area",
        "the contact-area law, worn volume = C x contact area x sliding "
        "distance, i.e. depth rate C(cross-shear) |v_t| whatever the "
-       "pressure, C from the Cross-shear table",
-       table_missing,
+       "pressure, C from its Cross-shear table (Wear/Area)",
+       table_entries("Area", "cross_shear, C: dimensionless"),
+       table_missing("area", "Area"),
        [](const Parameters::Wear &parameters) -> std::unique_ptr<WearLaw> {
          return std::make_unique<AreaWear>(
-           CrossShearTable(parameters.cross_shear_table, "C", false));
-       },
-       table_file});
+           CrossShearTable(table_of(parameters, "area"), "C", false));
+       }});
   } // namespace
 
   void

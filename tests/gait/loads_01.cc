@@ -35,15 +35,15 @@ main()
 
   Parameters::Gait gait;
   gait.axial_load_offset   = 0.07;
-  gait.ap_spring_stiffness = 9.3;
-  gait.ie_spring_stiffness = 130;
   gait.ml_spring_stiffness = 10;
-  gait.ap_force_sign = gait.ie_torque_sign = 1;
-  gait.flexion_axis_point                  = Point<3>(0, -2, 53);
-  gait.ap_spring_range                     = 2.5;
-  gait.ap_spring_stiffness_beyond          = 44;
-  gait.ie_spring_range                     = 6;
-  gait.ie_spring_stiffness_beyond          = 360;
+  gait.flexion_axis_point  = Point<3>(0, -2, 53);
+  Gait::Restraints restraints;
+  restraints.ap_spring_stiffness        = 9.3;
+  restraints.ie_spring_stiffness        = 130;
+  restraints.ap_spring_range            = 2.5;
+  restraints.ap_spring_stiffness_beyond = 44;
+  restraints.ie_spring_range            = 6;
+  restraints.ie_spring_stiffness_beyond = 360;
 
   const FE_Q<3>         fe(1);
   const MappingQ1<3>    mapping;
@@ -56,7 +56,7 @@ main()
   for (const int medial : {1, -1})
     {
       gait.medial_direction = medial;
-      const Gait::GaitLoads gait_loads(gait, surface);
+      const Gait::GaitLoads gait_loads(gait, restraints, surface);
       const auto            loads = gait_loads.loads(state);
       Tensor<1, 3>          force, moment;
       Tensor<2, 3>          translation_stiffness;
@@ -117,7 +117,7 @@ main()
   // The two-rate restraints: the linear inner rate (in the springs) plus
   // the excess give the ISO law, and the excess acts through a traction
   // with exactly the requested resultants.
-  const Gait::GaitLoads gait_loads(gait, surface);
+  const Gait::GaitLoads gait_loads(gait, restraints, surface);
   deallog << "two-rate restraint (linear rate + excess):" << std::endl;
   for (const double d : {1., 4., -4.})
     deallog << "  AP at " << d

@@ -36,11 +36,7 @@ namespace
     Parameters::Gait gait;
     gait.axial_load_offset       = 0.07;
     gait.medial_direction        = 1;
-    gait.ap_spring_stiffness     = 9.3;
-    gait.ie_spring_stiffness     = 130;
     gait.ml_spring_stiffness     = 10;
-    gait.ap_force_sign           = 1;
-    gait.ie_torque_sign          = 1;
     gait.tray_flatness_tolerance = 1e-3;
     return gait;
   }
@@ -91,9 +87,12 @@ namespace
     const Gait::InferiorSurface surface =
       Gait::measure_inferior_surface(triangulation);
     const Parameters::Gait parameters = gait_parameters();
-    const Gait::GaitLoads  gait_loads(parameters, surface);
-    const Gait::TibiaPose  pose(parameters, gait_loads);
-    DoFHandler<3>          dof_handler(triangulation);
+    Gait::Restraints       restraints;
+    restraints.ap_spring_stiffness = 9.3;
+    restraints.ie_spring_stiffness = 130;
+    const Gait::GaitLoads gait_loads(parameters, restraints, surface);
+    const Gait::TibiaPose pose(parameters, gait_loads);
+    DoFHandler<3>         dof_handler(triangulation);
     dof_handler.distribute_dofs(FESystem<3>(FE_Q<3>(1), 3));
     AffineConstraints<double> constraints;
     pose.add_tray_constraints(dof_handler, constraints);

@@ -11,10 +11,21 @@
 //   field changed to it;
 // - relative paths in an included file are taken from that file's
 //   directory, and an error in an included file names that file and line;
+// - an entry set where it was before it moved into a model's subsection
+//   (Wear coefficient, the force control's restraints, the cross-shear
+//   table of both laws that have one) is read at its new place, with a
+//   note naming the line and the new path; a checkpoint that recorded it
+//   at its old place resumes, and is refused naming the new place when
+//   the value differs;
 // - Lame constants follow from E and nu.
 
 #include <tkr/base/exceptions.h>
+#include <tkr/gait/displacement_control.h>
+#include <tkr/gait/gait_loads.h>
+#include <tkr/output/checkpoint.h>
 #include <tkr/parameters/parameters.h>
+#include <tkr/wear/archard.h>
+#include <tkr/wear/cross_shear_laws.h>
 
 #include <cmath>
 #include <filesystem>
@@ -84,6 +95,25 @@ namespace
   file_name(const std::string &path)
   {
     return std::filesystem::path(path).filename().string();
+  }
+
+  const TKR::Gait::Restraints &
+  restraints(const P &p)
+  {
+    return p.gait.protocols.get<TKR::Gait::Restraints>("force");
+  }
+
+  const TKR::Gait::DisplacementSigns &
+  signs(const P &p)
+  {
+    return p.gait.protocols.get<TKR::Gait::DisplacementSigns>("displacement");
+  }
+
+  const std::string &
+  table(const P &p, const std::string &law)
+  {
+    return p.wear.laws.get<TKR::Wear::CrossShearLawParameters>(law)
+      .cross_shear_table;
   }
 
   struct Row
@@ -168,25 +198,25 @@ namespace
                               [](const P &p) {
                                 return vec(p.elasticity.tibia_contact_traction);
                               }},
-                             {"Gait/AP force sign",
+                             {"Gait/Force control/AP force sign",
                               "-1",
                               [](const P &p) {
-                                return num(p.gait.ap_force_sign);
+                                return num(restraints(p).ap_force_sign);
                               }},
-                             {"Gait/AP spring range",
+                             {"Gait/Force control/AP spring range",
                               "3",
                               [](const P &p) {
-                                return num(p.gait.ap_spring_range);
+                                return num(restraints(p).ap_spring_range);
                               }},
-                             {"Gait/AP spring stiffness",
+                             {"Gait/Force control/AP spring stiffness",
                               "10",
                               [](const P &p) {
-                                return num(p.gait.ap_spring_stiffness);
+                                return num(restraints(p).ap_spring_stiffness);
                               }},
-                             {"Gait/AP spring stiffness beyond range",
+                             {"Gait/Force control/AP spring stiffness beyond range",
                               "50",
                               [](const P &p) {
-                                return num(p.gait.ap_spring_stiffness_beyond);
+                                return num(restraints(p).ap_spring_stiffness_beyond);
                               }},
                              {"Gait/Axial load offset",
                               "0.05",
@@ -201,15 +231,15 @@ namespace
                              {"Gait/Control",
                               "displacement",
                               [](const P &p) { return p.gait.control; }},
-                             {"Gait/AP displacement sign",
+                             {"Gait/Displacement control/AP displacement sign",
                               "-1",
                               [](const P &p) {
-                                return num(p.gait.ap_displacement_sign);
+                                return num(signs(p).ap_displacement_sign);
                               }},
-                             {"Gait/IE rotation sign",
+                             {"Gait/Displacement control/IE rotation sign",
                               "-1",
                               [](const P &p) {
-                                return num(p.gait.ie_rotation_sign);
+                                return num(signs(p).ie_rotation_sign);
                               }},
                              {"Gait/Femur AP offset",
                               "1.5",
@@ -273,25 +303,25 @@ namespace
                               [](const P &p) {
                                 return vec(p.gait.flexion_axis_point);
                               }},
-                             {"Gait/IE spring range",
+                             {"Gait/Force control/IE spring range",
                               "5",
                               [](const P &p) {
-                                return num(p.gait.ie_spring_range);
+                                return num(restraints(p).ie_spring_range);
                               }},
-                             {"Gait/IE spring stiffness",
+                             {"Gait/Force control/IE spring stiffness",
                               "140",
                               [](const P &p) {
-                                return num(p.gait.ie_spring_stiffness);
+                                return num(restraints(p).ie_spring_stiffness);
                               }},
-                             {"Gait/IE spring stiffness beyond range",
+                             {"Gait/Force control/IE spring stiffness beyond range",
                               "400",
                               [](const P &p) {
-                                return num(p.gait.ie_spring_stiffness_beyond);
+                                return num(restraints(p).ie_spring_stiffness_beyond);
                               }},
-                             {"Gait/IE torque sign",
+                             {"Gait/Force control/IE torque sign",
                               "-1",
                               [](const P &p) {
-                                return num(p.gait.ie_torque_sign);
+                                return num(restraints(p).ie_torque_sign);
                               }},
                              {"Gait/ML spring stiffness",
                               "5",
@@ -524,17 +554,28 @@ namespace
                               [](const P &p) {
                                 return num(p.wear.wear_area_threshold);
                               }},
-                             {"Wear/Wear coefficient",
+                             {"Wear/Archard/Wear coefficient",
                               "3e-7",
-                              [](const P &
-                                   p) { return num(p.wear.wear_coefficient); }},
+                              [](const P &p) {
+                                return num(
+                                  p.wear.laws
+                                    .get<TKR::Wear::ArchardParameters>(
+                                      "archard")
+                                    .wear_coefficient);
+                              }},
                              {"Wear/Wear law",
                               "area",
                               [](const P &p) { return p.wear.law; }},
-                             {"Wear/Cross-shear table",
+                             {"Wear/Archard cs/Cross-shear table",
+                              source + "/data/wear/example-archard-cs.csv",
+                              [](const P &p) {
+                                return file_name(table(p, "archard_cs"));
+                              },
+                              true},
+                             {"Wear/Area/Cross-shear table",
                               source + "/data/wear/example-area-law.csv",
                               [](const P &p) {
-                                return file_name(p.wear.cross_shear_table);
+                                return file_name(table(p, "area"));
                               },
                               true},
                              {"Wear/Run-in file",
@@ -726,4 +767,68 @@ main()
       deallog << "error in an included file: "
               << message.substr(0, message.find(':')) << std::endl;
     }
+
+  // Entries in their places before the models had subsections.
+  {
+    std::ofstream out("sub/old.prm");
+    out << "set Problem = contact\nsubsection Gait\n  set AP spring "
+           "stiffness = 12\n  set IE rotation sign = -1\nend\n"
+           "subsection Wear\n  set Wear law = archard_cs\n  set Wear "
+           "coefficient = 4e-7\n  set Cross-shear table = \\\n"
+           "    data/wear/example-archard-cs.csv\nend\n";
+  }
+  const P old = TKR::Parameters::read_parameters("sub/old.prm");
+  deallog << "old places: AP spring stiffness "
+          << restraints(old).ap_spring_stiffness << ", IE rotation sign "
+          << signs(old).ie_rotation_sign << ", wear coefficient "
+          << old.wear.laws.get<TKR::Wear::ArchardParameters>("archard")
+               .wear_coefficient
+          << ", tables " << file_name(table(old, "archard_cs")) << " "
+          << file_name(table(old, "area"))
+          << " (found: " << yes_no(std::filesystem::exists(table(old, "area")))
+          << ")" << std::endl;
+  for (const std::string &note : old.notes)
+    deallog << "note: " << note << std::endl;
+  deallog << "the old places are not entries: "
+          << yes_no(old.entries.count("Wear/Wear coefficient") == 0 &&
+                    old.entries.count("Gait/AP spring stiffness") == 0)
+          << std::endl;
+
+  // A checkpoint's record of the state parameters written before the
+  // entries moved: the same values under the old paths (an Archard run).
+  {
+    std::ofstream out("sub/archard.prm");
+    out << "set Problem = contact\nsubsection Wear\n  set Wear coefficient = "
+           "4e-7\nend\n";
+  }
+  const P    archard = TKR::Parameters::read_parameters("sub/archard.prm");
+  const auto record  = [&](const std::string &coefficient) {
+    std::string text;
+    for (const auto &[entry, value] : TKR::Output::state_parameters(archard))
+      {
+        std::string path = entry;
+        for (const auto &[from, to] : TKR::Parameters::moved_entries())
+          if (path == to || path == to + " (checksum)")
+            path = from + path.substr(to.size());
+        text += path + " = " +
+                (path == "Wear/Wear coefficient" ? coefficient : value) + "\n";
+      }
+    return text;
+  };
+  for (const std::string coefficient : {"4e-7", "5e-7"})
+    try
+      {
+        TKR::Output::check_state_parameters("old.h5",
+                                            record(coefficient),
+                                            archard);
+        deallog << "checkpoint with Wear/Wear coefficient = " << coefficient
+                << ": accepted" << std::endl;
+      }
+    catch (const TKR::ExcInputError &exc)
+      {
+        const std::string message = TKR::exception_message(exc);
+        deallog << "checkpoint with Wear/Wear coefficient = " << coefficient
+                << ": refused: " << message.substr(0, message.find(". "))
+                << std::endl;
+      }
 }

@@ -33,8 +33,8 @@ namespace
   base()
   {
     AllParameters p;
-    p.problem                          = TKR::Parameters::ProblemType::wear;
-    p.entries["Wear/Wear coefficient"] = "2e-7";
+    p.problem = TKR::Parameters::ProblemType::wear;
+    p.entries["Wear/Archard/Wear coefficient"]   = "2e-7";
     p.entries["Materials/Tibia/Young's modulus"] = "1000";
     p.entries["Gait/Flexion axis point"]         = "0, -2, 53.001";
     p.entries["Gait/Femur AP offset"]            = "0";
@@ -82,7 +82,8 @@ main()
   initlog();
   using namespace TKR::Problems;
 
-  // The grid.
+  // The grid; its wear coefficient by the entry's path before it moved
+  // into Wear/Archard (set there).
   const auto grid = make_study_cases(
     study("Wear/Wear coefficient *= 0.5, 1.5; Gait/Flexion axis point[2] += "
           "-1, 0, 2; Output/Plots = false"),
@@ -153,14 +154,15 @@ main()
     study("",
           "latin hypercube",
           4000,
-          "Wear/Wear coefficient = normal(3, 0.5); Gait/Femur AP offset = "
+          "Wear/Archard/Wear coefficient = normal(3, 0.5); Gait/Femur AP "
+          "offset = "
           "uniform(-2, 2); Materials/Tibia/Young's modulus *= "
           "log-normal(0, 0.1)"),
     base());
   double sum = 0, sum2 = 0, ap_min = 1e9, ap_max = -1e9, ln_sum = 0;
   for (const auto &c : sampled)
     {
-      const double k  = std::stod(c.entries.at("Wear/Wear coefficient"));
+      const double k = std::stod(c.entries.at("Wear/Archard/Wear coefficient"));
       const double ap = std::stod(c.entries.at("Gait/Femur AP offset"));
       const double e =
         std::stod(c.entries.at("Materials/Tibia/Young's modulus"));

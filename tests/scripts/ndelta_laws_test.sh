@@ -44,9 +44,13 @@ for law in "${laws[@]}"; do
       echo "  set Cycles per extrapolation step = $n"
       case $law in
       archard_cs) echo "  set Wear law = archard_cs"
-        echo "  set Cross-shear table = $root/data/wear/example-archard-cs.csv" ;;
+        echo "  subsection Archard cs"
+        echo "    set Cross-shear table = $root/data/wear/example-archard-cs.csv"
+        echo "  end" ;;
       area) echo "  set Wear law = area"
-        echo "  set Cross-shear table = $root/data/wear/example-area-law.csv" ;;
+        echo "  subsection Area"
+        echo "    set Cross-shear table = $root/data/wear/example-area-law.csv"
+        echo "  end" ;;
       run-in) echo "  set Run-in file = $root/data/wear/example-run-in.csv" ;;
       esac
       echo "end"

@@ -59,12 +59,12 @@ grep "tkr-wear: error" locked.log
 # The checkpoint records the parameters that determine the wear state: a
 # resume with another wear coefficient must be refused, naming the entry.
 cp "$prm" changed.prm
-printf 'subsection Wear\n  set Wear coefficient = 3e-7\nend\n' >> changed.prm
+printf 'subsection Wear\n  subsection Archard\n    set Wear coefficient = 3e-7\n  end\nend\n' >> changed.prm
 if "$exe" --resume changed.prm > refused.log 2>&1; then
   echo "restart_test: --resume with another Wear coefficient was not refused"
   exit 1
 fi
-grep -q "was written with Wear/Wear coefficient = 2e-7, but the parameter file sets 3e-7" refused.log ||
+grep -q "was written with Wear/Archard/Wear coefficient = 2e-7, but the parameter file sets 3e-7" refused.log ||
   { echo "restart_test: unexpected message:"; cat refused.log; exit 1; }
 echo "restart_test: --resume with another Wear coefficient refused:"
 cat refused.log

@@ -18,6 +18,7 @@
 #include <deal.II/base/numbers.h>
 
 #include <tkr/parameters/parameters.h>
+#include <tkr/wear/archard.h>
 #include <tkr/wear/wear_law.h>
 
 #include <cmath>
@@ -81,9 +82,9 @@ main()
 {
   initlog();
   TKR::Parameters::Wear parameters;
-  parameters.law              = "archard";
-  parameters.wear_coefficient = 2e-7;
-  const double k              = 2e-7 * 1e-3; // mm^3/(N mm)
+  parameters.law = "archard";
+  parameters.laws.set("archard", TKR::Wear::ArchardParameters{2e-7});
+  const double k = 2e-7 * 1e-3; // mm^3/(N mm)
 
   // Two steps a, b; three nodes.
   const double          theta_a = 5, theta_b = 12, phi_a = 0.5, phi_b = 2.5;

@@ -13,6 +13,7 @@
 
 #include <tkr/base/exceptions.h>
 #include <tkr/problems/contact_problem.h>
+#include <tkr/wear/cross_shear_laws.h>
 #include <tkr/wear/wear_law.h>
 
 #include <cmath>
@@ -88,9 +89,9 @@ main(int argc, char **argv)
   const auto [p1, sliding1] = slide(1200, parameters);
   const auto [p2, sliding2] = slide(2400, parameters);
 
-  auto area               = parameters.wear;
-  area.law                = "area";
-  area.cross_shear_table  = "c.csv";
+  auto area = parameters.wear;
+  area.law  = "area";
+  area.laws.set("area", Wear::CrossShearLawParameters{"c.csv"});
   const auto   d1         = depth(area, sliding1);
   const auto   d2         = depth(area, sliding2);
   double       area_error = 0, load_difference = 0;
@@ -109,14 +110,14 @@ main(int argc, char **argv)
   deallog << "area law: depth at 2400 N = depth at 1200 N: "
           << yes_no(load_difference < 1e-14 * 3e-9 * 2 * s) << std::endl;
 
-  const auto archard            = depth(parameters.wear, sliding1);
-  auto       constant           = parameters.wear;
-  constant.law                  = "archard_cs";
-  constant.cross_shear_table    = "k.csv";
-  const auto dc                 = depth(constant, sliding1);
-  auto       by_pressure        = constant;
-  by_pressure.cross_shear_table = "kp.csv";
-  const auto dp                 = depth(by_pressure, sliding1);
+  const auto archard  = depth(parameters.wear, sliding1);
+  auto       constant = parameters.wear;
+  constant.law        = "archard_cs";
+  constant.laws.set("archard_cs", Wear::CrossShearLawParameters{"k.csv"});
+  const auto dc          = depth(constant, sliding1);
+  auto       by_pressure = constant;
+  by_pressure.laws.set("archard_cs", Wear::CrossShearLawParameters{"kp.csv"});
+  const auto dp             = depth(by_pressure, sliding1);
   double     constant_error = 0, pressure_error = 0, largest = 0;
   for (unsigned int j = 0; j < dc.size(); ++j)
     {
@@ -141,9 +142,9 @@ main(int argc, char **argv)
                                                         {"area", ""}})
     try
       {
-        auto wear              = parameters.wear;
-        wear.law               = name;
-        wear.cross_shear_table = table;
+        auto wear = parameters.wear;
+        wear.law  = name;
+        wear.laws.set(name, Wear::CrossShearLawParameters{table});
         Wear::create_wear_law(wear);
         deallog << name << ": accepted" << std::endl;
       }

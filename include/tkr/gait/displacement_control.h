@@ -36,11 +36,20 @@ namespace TKR::Gait
    *
    * Its pose is the tray's translation in x and z (mm, simulator frame).
    */
+  /** The entries of `Gait/Displacement control`. */
+  struct DisplacementSigns
+  {
+    /** Signs applied to the tabulated AP displacement and IE rotation. */
+    double ap_displacement_sign = 1, ie_rotation_sign = 1;
+  };
+
   class DisplacementControl : public Protocol
   {
   public:
-    DisplacementControl(const Parameters::Gait &parameters,
-                        const InferiorSurface  &surface);
+    /** @p signs: the entries of `Gait/Displacement control`. */
+    DisplacementControl(const Parameters::Gait  &parameters,
+                        const DisplacementSigns &signs,
+                        const InferiorSurface   &surface);
 
     std::string
     name() const override
@@ -167,8 +176,9 @@ namespace TKR::Gait
     std::pair<double, double>
     reactions(const StepReport &report) const;
 
-    const Parameters::Gait parameters;
-    const Waveform         table;
+    const Parameters::Gait  parameters;
+    const DisplacementSigns signs;
+    const Waveform          table;
     /** The gait loads without restraint springs. */
     const GaitLoads gait_loads;
     const TibiaPose tibia_pose;

@@ -28,7 +28,9 @@ namespace TKR::Gait
   class ForceControl : public Protocol
   {
   public:
+    /** @p restraints: the entries of `Gait/Force control`. */
     ForceControl(const Parameters::Gait &parameters,
+                 const Restraints       &restraints,
                  const InferiorSurface  &surface);
 
     std::string

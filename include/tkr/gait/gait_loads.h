@@ -45,6 +45,24 @@ namespace TKR::Gait
     double width = 0;
   };
 
+  /**
+   * ISO 14243-1's AP and IE restraints (two-rate springs) and the signs of
+   * the tabulated AP force and IE torque: the entries of `Gait/Force
+   * control` (ForceControl). Without them (the defaults here): no
+   * restraint, the table's signs.
+   */
+  struct Restraints
+  {
+    /** Stiffnesses within +- the range (N/mm, N mm/deg), the range (mm,
+     *  deg), the stiffnesses beyond it. */
+    double ap_spring_stiffness = 0, ap_spring_range = 0,
+           ap_spring_stiffness_beyond = 0;
+    double ie_spring_stiffness = 0, ie_spring_range = 0,
+           ie_spring_stiffness_beyond = 0;
+    /** Signs applied to the tabulated AP force and IE torque. */
+    double ap_force_sign = 1, ie_torque_sign = 1;
+  };
+
   /** Measure the `tibia_inferior` surface and the tibia's width. */
   InferiorSurface
   measure_inferior_surface(const dealii::Triangulation<3> &triangulation);
@@ -75,7 +93,15 @@ namespace TKR::Gait
   {
   public:
     GaitLoads(const Parameters::Gait &parameters,
+              const Restraints       &restraints,
               const InferiorSurface  &surface);
+
+    /** The restraints and the load signs. */
+    const Restraints &
+    restraints() const
+    {
+      return restraint;
+    }
 
     /** Tractions and springs on `tibia_inferior` for @p state. */
     Elasticity::BoundaryLoads
@@ -170,6 +196,7 @@ namespace TKR::Gait
 
   private:
     const Parameters::Gait parameters;
+    const Restraints       restraint;
     const InferiorSurface  surface;
   };
 } // namespace TKR::Gait

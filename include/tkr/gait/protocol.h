@@ -252,15 +252,17 @@ namespace TKR::Gait
 
   /**
    * A gait protocol as a plugin (Registry): the name that selects it in
-   * `Gait/Control`, the phrase that documents it there, and how it is made
-   * from the gait parameters and the tibia's inferior surface (where its
-   * loads act). Each protocol's .cc file registers its own
+   * `Gait/Control`, the phrase that documents it there, its own entries
+   * (`Gait/<subsection>`, e.g. `Gait/Force control`; ModelEntries), and
+   * how it is made from the gait parameters and the tibia's inferior surface
+   * (where its loads act). Each protocol's .cc file registers its own
    * (Protocols::add()).
    */
   struct ProtocolPlugin
   {
-    std::string name;
-    std::string documentation;
+    std::string  name;
+    std::string  documentation;
+    ModelEntries entries;
     std::function<std::unique_ptr<Protocol>(const Parameters::Gait &,
                                             const InferiorSurface &)>
       create;

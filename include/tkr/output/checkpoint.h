@@ -25,10 +25,28 @@ namespace TKR::Output
    * the gait protocol with its waveform (checksum) and every Gait entry
    * but the step groups, and the Wear entries but Cycles (a run may be
    * resumed to go further) and the distortion handling (which may be
-   * changed to get past a refused block).
+   * changed to get past a refused block); of the models' own subsections
+   * only those of the run's law and protocol, their input files by
+   * checksum.
    */
   std::map<std::string, std::string>
   state_parameters(const Parameters::AllParameters &parameters);
+
+  /** state_parameters() as the "entry = value" lines a checkpoint keeps. */
+  std::string
+  state_parameters_text(const Parameters::AllParameters &parameters);
+
+  /**
+   * Refuse (ExcInputError naming @p filename and the entry) a checkpoint
+   * whose @p recorded state parameters ("entry = value" lines, as written)
+   * differ from the state_parameters() of @p parameters; entries recorded
+   * under their paths before they moved into a model's subsection
+   * (Parameters::moved_entries()) count under their new paths.
+   */
+  void
+  check_state_parameters(const std::string               &filename,
+                         const std::string               &recorded,
+                         const Parameters::AllParameters &parameters);
 
   /**
    * Write @p state as an HDF5 file (`checkpoint.h5` in @p directory, on

@@ -8,8 +8,12 @@
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 
+#include <tkr/base/registry.h>
+
 #include <map>
 #include <string>
+#include <utility>
+#include <vector>
 
 /**
  * The run-time parameters of tkr-wear, one struct per subsection of the
@@ -159,18 +163,8 @@ namespace TKR::Parameters
     int medial_direction;
     /** Medial offset of the axial load line as a fraction of the width. */
     double axial_load_offset;
-    /** Restraint springs: AP and ML in N/mm, IE in N mm/deg. */
-    double ap_spring_stiffness, ie_spring_stiffness, ml_spring_stiffness;
-    /**
-     * Two-rate restraint law: the stiffnesses above within +- the range
-     * (mm, deg), these beyond (N/mm, N mm/deg).
-     */
-    double ap_spring_range, ap_spring_stiffness_beyond;
-    double ie_spring_range, ie_spring_stiffness_beyond;
-    /** Sign applied to the tabulated AP force and IE torque. */
-    double ap_force_sign, ie_torque_sign;
-    /** Sign applied to the tabulated AP displacement and IE rotation. */
-    double ap_displacement_sign, ie_rotation_sign;
+    /** The ML spring in N/mm (not ISO 14243-1's; 0: none). */
+    double ml_spring_stiffness;
     /**
      * The femur's AP position on the insert (mm, + anterior) when the AP
      * restraint is relaxed: the restraint's neutral tibia position is at
@@ -203,6 +197,12 @@ namespace TKR::Parameters
     double tray_flatness_tolerance;
     /** MPI groups that share the steps of a cycle (0: one per rank). */
     unsigned int step_groups;
+    /**
+     * Each protocol's own entries (`Gait/<its subsection>`, e.g. the
+     * restraints of `Gait/Force control`), parsed by the protocol
+     * (Gait::ProtocolPlugin::entries), by the protocol's name.
+     */
+    ModelParameters protocols;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);
@@ -218,10 +218,12 @@ namespace TKR::Parameters
      * law registers itself, Wear::WearLawPlugin).
      */
     std::string law;
-    /** Archard wear coefficient k in mm^3/(N m), as in the literature. */
-    double wear_coefficient;
-    /** The CSV table of k or C over cross-shear (archard_cs, area). */
-    std::string cross_shear_table;
+    /**
+     * Each law's own entries (`Wear/<its subsection>`, e.g. the wear
+     * coefficient of `Wear/Archard`), parsed by the law
+     * (Wear::WearLawPlugin::entries), by the law's name.
+     */
+    ModelParameters laws;
     /** The CSV table of the run-in factor over cycles (empty: none). */
     std::string run_in_file;
     /** Total number of gait cycles. */
@@ -435,6 +437,12 @@ namespace TKR::Parameters
     /** "FILE:LINE" of each entry the parameter file sets, by path. */
     std::map<std::string, std::string> places;
 
+    /**
+     * What the reader has to say about the file: an entry set where it
+     * was before it moved into a model's subsection (moved_entries()).
+     */
+    std::vector<std::string> notes;
+
     static void
     declare_parameters(dealii::ParameterHandler &prm);
     void
@@ -453,6 +461,27 @@ namespace TKR::Parameters
   /** Write the complete, documented default parameter file. */
   void
   print_default_parameters(std::ostream &out);
+
+  /**
+   * The entries that moved into a model's own subsection, as (old path,
+   * new path), e.g. ("Wear/Wear coefficient", "Wear/Archard/Wear
+   * coefficient"): a parameter file, a study's setting or a checkpoint
+   * that names the old path means the new one(s).
+   */
+  std::vector<std::pair<std::string, std::string>>
+  moved_entries();
+
+  /** The paths of the models' entries that are input files. */
+  std::vector<std::string>
+  model_file_entries();
+
+  /**
+   * The subsections ("Wear/Area/") of the models that @p parameters do
+   * not select (another wear law's, another protocol's): their entries
+   * do not act on the run.
+   */
+  std::vector<std::string>
+  unselected_model_subsections(const AllParameters &parameters);
 
   /** Name of a problem type as written in the parameter file. */
   std::string

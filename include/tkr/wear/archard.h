@@ -8,6 +8,13 @@
 
 namespace TKR::Wear
 {
+  /** The entries of `Wear/Archard`. */
+  struct ArchardParameters
+  {
+    /** Archard wear coefficient k in mm^3/(N m), as in the literature. */
+    double wear_coefficient = 2e-7;
+  };
+
   /**
    * Archard's law with a constant wear coefficient (`Wear law = archard`,
    * the reference paper's model, DESIGN.md section 2): dh/dt = k p |v_t|.

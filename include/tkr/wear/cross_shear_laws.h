@@ -10,6 +10,16 @@
 namespace TKR::Wear
 {
   /**
+   * The entries of a law with a coefficient over the cross-shear
+   * (`Wear/Archard cs`, `Wear/Area`).
+   */
+  struct CrossShearLawParameters
+  {
+    /** The CSV table of the coefficient over the cross-shear. */
+    std::string cross_shear_table;
+  };
+
+  /**
    * The laws that depend on each node's cross-shear over the cycle
    * (cycle_cross_shear(), doc/wear.md "Cross-shear"): analyse_cycle()
    * keeps the ratios, node_fields() has nothing beyond what every run

@@ -136,21 +136,19 @@ namespace TKR::Wear
 
   /**
    * A wear law as a plugin (Registry): the name that selects it in
-   * `Wear/Wear law`, the phrase that documents it there, what it lacks in
-   * the parameters (the input error; empty if nothing), how it is made
-   * from them, and its input files as (entry of `Wear`, path), which a
-   * checkpoint records by checksum (none if empty). Each law's .cc file
-   * registers its own (WearLaws::add()).
+   * `Wear/Wear law`, the phrase that documents it there, its own entries
+   * (`Wear/<subsection>`, e.g. `Wear/Archard`; ModelEntries), what it
+   * lacks in the parameters (the input error; empty if nothing), and how
+   * it is made from them. Each law's .cc file registers its own
+   * (WearLaws::add()).
    */
   struct WearLawPlugin
   {
-    using Files = std::vector<std::pair<std::string, std::string>>;
-
     std::string                                          name;
     std::string                                          documentation;
+    ModelEntries                                         entries;
     std::function<std::string(const Parameters::Wear &)> missing;
     std::function<std::unique_ptr<WearLaw>(const Parameters::Wear &)> create;
-    std::function<Files(const Parameters::Wear &)>                    files;
   };
 
   /** The registered wear laws. */
