@@ -8,6 +8,7 @@
 #include <tkr/gait/pose_update.h>
 #include <tkr/mesh/mesh.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <iomanip>
@@ -346,6 +347,21 @@ namespace TKR::Gait
     return tibia_pose.axial_balance(gait_state(report.input).axial_force,
                                     report.contact_resultant,
                                     1e-3);
+  }
+
+  // The largest AP force and IE torque that held the tray over the cycle
+  // (pose_values), what a displacement-controlled simulator measures.
+  std::vector<std::pair<std::string, double>>
+  DisplacementControl::cycle_results(
+    const std::vector<StepReport> &reports) const
+  {
+    double ap = 0, ie = 0;
+    for (const StepReport &report : reports)
+      {
+        ap = std::max(ap, std::abs(report.pose_values.at(0)));
+        ie = std::max(ie, std::abs(report.pose_values.at(1)));
+      }
+    return {{"max_ap_reaction_N", ap}, {"max_ie_reaction_Nm", ie}};
   }
 
   std::vector<std::string>

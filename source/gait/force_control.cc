@@ -7,6 +7,7 @@
 #include <tkr/gait/force_control.h>
 #include <tkr/gait/pose_update.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <iomanip>
@@ -405,6 +406,23 @@ namespace TKR::Gait
     return tibia_pose.axial_balance(gait_state(report.input).axial_force,
                                     report.contact_resultant,
                                     1e-6);
+  }
+
+  // The ranges of the tibia's AP position and IE rotation over the cycle
+  // (pose_values), the kinematics a force-controlled simulator reports.
+  std::vector<std::pair<std::string, double>>
+  ForceControl::cycle_results(const std::vector<StepReport> &reports) const
+  {
+    std::array<double, 2> low{{0., 0.}}, high{{0., 0.}};
+    for (unsigned int s = 0; s < reports.size(); ++s)
+      for (unsigned int i = 0; i < 2; ++i)
+        {
+          const double value = reports[s].pose_values.at(i);
+          low[i]             = (s == 0 ? value : std::min(low[i], value));
+          high[i]            = (s == 0 ? value : std::max(high[i], value));
+        }
+    return {{"ap_position_range_mm", high[0] - low[0]},
+            {"ie_rotation_range_deg", high[1] - low[1]}};
   }
 
   std::vector<std::string>

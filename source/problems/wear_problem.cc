@@ -416,8 +416,11 @@ namespace TKR::Problems
     result.density             = parameters.materials.tibia.density;
     result.wear_area_threshold = parameters.wear.wear_area_threshold;
     // A run resumed at its end computes no cycle.
-    result.has_cross_shear   = !cycle_wear.cross_shear.empty();
-    result.mean_cross_shear  = sides.mean_cross_shear(cycle_wear.cross_shear);
+    result.has_cross_shear  = !cycle_wear.cross_shear.empty();
+    result.mean_cross_shear = sides.mean_cross_shear(cycle_wear.cross_shear);
+    if (result.has_cross_shear)
+      result.protocol_results =
+        cycle.get_protocol().cycle_results(cycle.get_reports());
     result.max_pressure      = state.max_pressure;
     result.steps             = state.steps;
     result.contact_solves    = state.contact_solves;

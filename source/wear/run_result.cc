@@ -32,6 +32,9 @@ namespace TKR::Wear
         values.emplace_back(prefix + "_mean_cross_shear",
                             result.mean_cross_shear);
       }
+    values.insert(values.end(),
+                  protocol_results.begin(),
+                  protocol_results.end());
     values.insert(
       values.end(),
       {{"max_pressure_MPa", max_pressure},

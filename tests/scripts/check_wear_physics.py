@@ -19,6 +19,8 @@ wrong answer pass these. Always checked (doc/wear.md, "One block",
 * the sides add up: medial + lateral volume and worn area = the insert's,
   the insert's largest depth = the larger side's (summary and every row);
 * the summary is the last history row (mass, volume, depth, area);
+* the gait protocol's own results (e.g. force control's range of the AP
+  position over the cycle) are the extremes of their steps.csv columns;
 * wear accumulates: volume, mass and largest depth (also of each side)
   never decrease from block to block, the worn areas are within 0..100 %;
 * the extrapolation: the first block's mass is the first cycle's mass per
@@ -68,23 +70,23 @@ DENSITY = 0.935
 
 SIDES = ("medial", "lateral")
 
-# The history columns that two runs of the same wear problem share (the
-# mean cross-shear, a ratio of small eigenvalues, is left out: it differs
-# by 1.2e-6 relative between mirrored runs, tests/app/CMakeLists.txt).
-SAME_COLUMNS = (
-    "cycles",
-    "volume_mm3",
-    "mass_mg",
-    "max_depth_mm",
-    "wear_area_percent",
-    "peak_pressure_MPa",
-    "max_contact_area_mm2",
-    "medial_volume_mm3",
-    "medial_max_depth_mm",
-    "medial_wear_area_percent",
-    "lateral_volume_mm3",
-    "lateral_max_depth_mm",
-    "lateral_wear_area_percent",
+# The history columns that two runs of the same wear problem share: all but
+# the block's number, the wall time and the mean cross-shear (a ratio of
+# small eigenvalues: it differs by 1.2e-6 relative between mirrored runs,
+# tests/app/CMakeLists.txt).
+SAME_COLUMNS = tuple(
+    c
+    for c in tkr_results.WEAR_HISTORY_COLUMNS
+    if c not in ("block", "wall_time_s") and not c.endswith("mean_cross_shear")
+)
+# The gait protocols' own results in summary.json (doc/output.md) and the
+# steps.csv column of the last cycle each is the range or the largest
+# magnitude of.
+PROTOCOL_RESULTS = (
+    ("ap_position_range_mm", "ap_position_mm", "range"),
+    ("ie_rotation_range_deg", "ie_rotation_deg", "range"),
+    ("max_ap_reaction_N", "ap_reaction_N", "largest magnitude"),
+    ("max_ie_reaction_Nm", "ie_reaction_Nm", "largest magnitude"),
 )
 SAME_KEYS = (
     "cycles",
@@ -412,6 +414,23 @@ def check_same(summary, history, other_summary, other_history, tolerance, other_
 # Reading a run
 
 
+def check_protocol_results(summary, steps):
+    """The protocol's own results are the extremes of its steps.csv columns."""
+    pairs = []
+    for key, column, kind in PROTOCOL_RESULTS:
+        if key in summary:
+            values = steps[column]
+            extreme = max(values) - min(values) if kind == "range" else max(abs(v) for v in values)
+            pairs.append((key, summary[key], extreme))
+    difference, where = worst(pairs)
+    return Statement(
+        difference <= RELATIVE_ROUNDING,
+        f"the protocol's results ({', '.join(p[0] for p in pairs)}) = the range or largest magnitude of "
+        f"their steps.csv columns over {len(steps['step'])} steps: largest relative difference "
+        f"{difference:.2e} ({where}), band {RELATIVE_ROUNDING:g}",
+    )
+
+
 def read_run(directory, with_map=True):
     """(summary, history, wear map, faces) of a wear run's directory."""
     summary = tkr_results.read_summary(os.path.join(directory, "summary.json"))
@@ -445,6 +464,11 @@ def statements(directory, density=DENSITY, rate_band=None, map_band=0.01, same_a
         check_extrapolation(summary, history),
         check_wear_map(summary, wear_map, faces, map_band),
     ]
+    if any(key in summary for key, _, _ in PROTOCOL_RESULTS):
+        steps = tkr_results.read_table(
+            os.path.join(directory, "steps.csv"), ("step",), [column for _, column, _ in PROTOCOL_RESULTS]
+        )
+        result.append(check_protocol_results(summary, steps))
     if rate_band is not None:
         result.append(check_rate_band(summary, history, rate_band))
     if same_as:

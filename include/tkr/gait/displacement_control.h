@@ -141,6 +141,9 @@ namespace TKR::Gait
       return "axial force carried by the contact";
     }
 
+    std::vector<std::pair<std::string, double>>
+    cycle_results(const std::vector<StepReport> &reports) const override;
+
     std::vector<std::string>
     input_columns() const override;
 

@@ -219,6 +219,15 @@ namespace TKR::Gait
     virtual double
     load_balance(const StepReport &report) const = 0;
 
+    /**
+     * The protocol's own results of a computed cycle from its steps'
+     * @p reports, named as in summary.json (doc/output.md; e.g. the range of
+     * the tibia's AP position under force control): the run's result
+     * (Wear::RunResult) carries them.
+     */
+    virtual std::vector<std::pair<std::string, double>>
+    cycle_results(const std::vector<StepReport> &reports) const = 0;
+
     /** What load_balance() checks, for the screen ("axial force"). */
     virtual std::string
     load_balance_text() const = 0;

@@ -34,6 +34,9 @@ namespace TKR::Wear
      *  run resumed at its end computes none (has_cross_shear false). */
     bool   has_cross_shear  = false;
     double mean_cross_shear = 0;
+    /** The protocol's own results of the last computed cycle
+     *  (Gait::Protocol::cycle_results(); none if no cycle was computed). */
+    std::vector<std::pair<std::string, double>> protocol_results;
     /** The largest contact pressure of all steps (MPa). */
     double max_pressure = 0;
     /** Step solves and the solver's effort over all blocks. */
