@@ -123,6 +123,18 @@ namespace TKR::Wear
                               "coefficient depends on the cross-shear only "
                               "(doc/wear.md)."));
     check_non_negative(table, "cross_shear");
+    // The ratio cannot exceed 1/2 (doc/wear.md, Cross-shear): a larger value
+    // is a table in another unit (percent), which would otherwise read every
+    // node near its first row.
+    for (unsigned int r = 0; r < table.n_rows(); ++r)
+      AssertThrow(table(r, "cross_shear") <= 0.5,
+                  ExcInputError(table.where(r) + "cross_shear is " +
+                                format_number(table(r, "cross_shear")) +
+                                ", but the cross-shear is a ratio from 0 to "
+                                "0.5 (the frictional work across the "
+                                "principal molecular orientation over the "
+                                "total, doc/wear.md); a table in percent must "
+                                "be divided by 100."));
     check_non_negative(table, value_column);
     const bool by_pressure = table.has_column("pressure_MPa");
     if (by_pressure)
