@@ -152,13 +152,16 @@ namespace TKR::Output
     const std::vector<std::string> files = Parameters::model_file_entries();
     const std::vector<std::string> unused =
       Parameters::unselected_model_subsections(parameters);
-    const auto counts = [&](const std::string &entry) {
-      return std::find(files.begin(), files.end(), entry) == files.end() &&
-             std::none_of(unused.begin(),
+    const auto of_the_run = [&](const std::string &entry) {
+      return std::none_of(unused.begin(),
                           unused.end(),
                           [&](const std::string &subsection) {
                             return starts_with(entry, subsection);
                           });
+    };
+    const auto counts = [&](const std::string &entry) {
+      return std::find(files.begin(), files.end(), entry) == files.end() &&
+             of_the_run(entry);
     };
     for (const auto &[entry, value] : parameters.entries)
       if (((starts_with(entry, "Mesh/") && entry != "Mesh/File") ||
@@ -177,11 +180,7 @@ namespace TKR::Output
     state["Wear/Run-in file (checksum)"] =
       checksum(parameters.wear.run_in_file);
     for (const std::string &entry : files)
-      if (std::none_of(unused.begin(),
-                       unused.end(),
-                       [&](const std::string &subsection) {
-                         return starts_with(entry, subsection);
-                       }))
+      if (of_the_run(entry))
         state[entry + " (checksum)"] = checksum(parameters.entries.at(entry));
     return state;
   }

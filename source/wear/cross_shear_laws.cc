@@ -52,12 +52,13 @@ namespace TKR::Wear
 
     /** The laws with a coefficient over the cross-shear need its table. */
     std::function<std::string(const Parameters::Wear &)>
-    table_missing(const std::string &name, const std::string &subsection)
+    table_missing(const std::string &name)
     {
-      return [name, subsection](const Parameters::Wear &parameters) {
+      return [name](const Parameters::Wear &parameters) {
         return table_of(parameters, name).empty() ?
-                 "Wear/Wear law = " + name + " needs Wear/" + subsection +
-                   "/Cross-shear table, a CSV file of its coefficient over "
+                 "Wear/Wear law = " + name + " needs " +
+                   WearLaws::subsections("Wear").at(name) +
+                   "Cross-shear table, a CSV file of its coefficient over "
                    "the cross-shear (doc/wear.md; data/wear/ has example "
                    "tables)." :
                  "";
@@ -72,7 +73,7 @@ namespace TKR::Wear
        table_entries("Archard cs",
                      "cross_shear, k_mm3_per_Nm in mm^3/(N m) and optionally "
                      "pressure_MPa"),
-       table_missing("archard_cs", "Archard cs"),
+       table_missing("archard_cs"),
        [](const Parameters::Wear &parameters) -> std::unique_ptr<WearLaw> {
          return std::make_unique<ArchardCrossShearWear>(
            CrossShearTable(table_of(parameters, "archard_cs"),
@@ -86,7 +87,7 @@ namespace TKR::Wear
        "distance, i.e. depth rate C(cross-shear) |v_t| whatever the "
        "pressure, C from its Cross-shear table (Wear/Area)",
        table_entries("Area", "cross_shear, C: dimensionless"),
-       table_missing("area", "Area"),
+       table_missing("area"),
        [](const Parameters::Wear &parameters) -> std::unique_ptr<WearLaw> {
          return std::make_unique<AreaWear>(
            CrossShearTable(table_of(parameters, "area"), "C", false));

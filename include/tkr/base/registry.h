@@ -181,7 +181,7 @@ namespace TKR
       std::map<std::string, std::string> paths;
       for (const auto &[name, plugin] : plugins())
         if (!plugin.entries.subsection.empty())
-          paths[name] = kind + "/" + plugin.entries.subsection + "/";
+          paths[name] = own_path(kind, plugin, "");
       return paths;
     }
 
@@ -196,9 +196,7 @@ namespace TKR
       std::vector<std::pair<std::string, std::string>> moved;
       for (const auto &[name, plugin] : plugins())
         for (const std::string &entry : plugin.entries.moved)
-          moved.emplace_back(kind + "/" + entry,
-                             kind + "/" + plugin.entries.subsection + "/" +
-                               entry);
+          moved.emplace_back(kind + "/" + entry, own_path(kind, plugin, entry));
       return moved;
     }
 
@@ -209,11 +207,20 @@ namespace TKR
       std::vector<std::string> files;
       for (const auto &[name, plugin] : plugins())
         for (const std::string &entry : plugin.entries.files)
-          files.push_back(kind + "/" + plugin.entries.subsection + "/" + entry);
+          files.push_back(own_path(kind, plugin, entry));
       return files;
     }
 
   private:
+    /** "KIND/Subsection/@p entry" of @p plugin's own entry. */
+    static std::string
+    own_path(const std::string &kind,
+             const Plugin      &plugin,
+             const std::string &entry)
+    {
+      return kind + "/" + plugin.entries.subsection + "/" + entry;
+    }
+
     // A function-local static: the models register themselves during the
     // static initialisation of the library, in no set order.
     static std::map<std::string, Plugin> &
