@@ -9,6 +9,7 @@
 #include <tkr/base/exceptions.h>
 #include <tkr/base/mpi.h>
 #include <tkr/parameters/parameters.h>
+#include <tkr/problems/calibration_problem.h>
 #include <tkr/problems/contact_problem.h>
 #include <tkr/problems/elasticity_problem.h>
 #include <tkr/problems/study_problem.h>
@@ -75,6 +76,11 @@ namespace
             Problems::StudyProblem problem(parameters,
                                            mpi_communicator,
                                            resume);
+            return problem.run() ? 0 : 1;
+          }
+        case Parameters::ProblemType::calibration:
+          {
+            Problems::CalibrationProblem problem(parameters, mpi_communicator);
             return problem.run() ? 0 : 1;
           }
       }

@@ -223,12 +223,15 @@ namespace TKR::Parameters
   {
     prm.declare_entry("Problem",
                       "wear",
-                      Patterns::Selection("wear|contact|elasticity|study"),
+                      Patterns::Selection(
+                        "wear|contact|elasticity|study|calibration"),
                       "wear: the ISO 14243-1 wear run; contact: one static "
                       "contact solve; elasticity: both bodies loaded "
                       "separately, without contact (demonstration); study: "
                       "many variants of a wear run (subsection Study, "
-                      "doc/studies.md).");
+                      "doc/studies.md); calibration: fit the wear model to "
+                      "measured mass loss (subsection Calibration, "
+                      "doc/calibration.md).");
     Mesh::declare_parameters(prm);
     Materials::declare_parameters(prm);
     Elasticity::declare_parameters(prm);
@@ -240,16 +243,18 @@ namespace TKR::Parameters
     Output::declare_parameters(prm);
     Verification::declare_parameters(prm);
     Study::declare_parameters(prm);
+    Calibration::declare_parameters(prm);
   }
 
   void
   AllParameters::parse_parameters(ParameterHandler &prm)
   {
     const std::string name = prm.get("Problem");
-    problem                = (name == "wear"    ? ProblemType::wear :
-                              name == "contact" ? ProblemType::contact :
-                              name == "study"   ? ProblemType::study :
-                                                  ProblemType::elasticity);
+    problem                = (name == "wear"        ? ProblemType::wear :
+                              name == "contact"     ? ProblemType::contact :
+                              name == "study"       ? ProblemType::study :
+                              name == "calibration" ? ProblemType::calibration :
+                                                      ProblemType::elasticity);
     mesh.parse_parameters(prm);
     materials.parse_parameters(prm);
     elasticity.parse_parameters(prm);
@@ -261,6 +266,7 @@ namespace TKR::Parameters
     output.parse_parameters(prm);
     verification.parse_parameters(prm);
     study.parse_parameters(prm);
+    calibration.parse_parameters(prm);
   }
 
   void
@@ -405,6 +411,11 @@ namespace TKR::Parameters
                           internal::resolve_path(internal::get_entry(prm,
                                                                      entry),
                                                  text.directory_of(entry)));
+    internal::set_entry(prm,
+                        "Calibration/Designs",
+                        Calibration::resolve_designs(
+                          internal::get_entry(prm, "Calibration/Designs"),
+                          text.directory_of("Calibration/Designs")));
     AllParameters parameters;
     try
       {
@@ -446,6 +457,8 @@ namespace TKR::Parameters
           return "elasticity";
         case ProblemType::study:
           return "study";
+        case ProblemType::calibration:
+          return "calibration";
       }
     return "";
   }

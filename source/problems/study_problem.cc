@@ -106,37 +106,6 @@ namespace TKR::Problems
     }
 
     /**
-     * std::cout and std::cerr into the case's log.txt (the group's rank 0)
-     * or a string (the others) while the guard lives.
-     */
-    class CaseOutput
-    {
-    public:
-      CaseOutput(const std::string &filename, const bool is_group_root)
-      {
-        if (is_group_root)
-          file.open(filename);
-        std::streambuf *target = is_group_root ?
-                                   static_cast<std::streambuf *>(file.rdbuf()) :
-                                   static_cast<std::streambuf *>(other.rdbuf());
-        out                    = std::cout.rdbuf(target);
-        err                    = std::cerr.rdbuf(target);
-      }
-      ~CaseOutput()
-      {
-        std::cout.flush();
-        std::cerr.flush();
-        std::cout.rdbuf(out);
-        std::cerr.rdbuf(err);
-      }
-
-    private:
-      std::ofstream      file;
-      std::ostringstream other;
-      std::streambuf    *out;
-      std::streambuf    *err;
-    };
-    /**
      * The cases' queue: a counter on rank 0 of the job that each group's
      * rank 0 increments atomically (MPI_Fetch_and_op, passive target), or
      * a plain counter if there is one group.

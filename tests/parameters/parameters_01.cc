@@ -578,6 +578,49 @@ namespace
                                 return file_name(table(p, "area"));
                               },
                               true},
+                             {"Calibration/Designs",
+                              "a.prm: b.csv",
+                              [](const P &p) {
+                                std::string designs;
+                                for (const auto &d : p.calibration.designs)
+                                  designs += d.base_file + ": " +
+                                             d.measured_file;
+                                return designs;
+                              }},
+                             {"Calibration/Fit",
+                              "Run-in factor, Run-in length",
+                              [](const P &p) {
+                                std::string fit;
+                                for (const std::string &name :
+                                     p.calibration.fit)
+                                  fit += (fit.empty() ? "" : ", ") + name;
+                                return fit;
+                              }},
+                             {"Calibration/Run-in factor",
+                              "3",
+                              [](const P &p) {
+                                return num(p.calibration.run_in_factor);
+                              }},
+                             {"Calibration/Run-in length",
+                              "5e5",
+                              [](const P &p) {
+                                return num(p.calibration.run_in_length);
+                              }},
+                             {"Calibration/Confidence level",
+                              "0.9",
+                              [](const P &p) {
+                                return num(p.calibration.confidence_level);
+                              }},
+                             {"Calibration/Tolerance",
+                              "0.02",
+                              [](const P &p) {
+                                return num(p.calibration.tolerance);
+                              }},
+                             {"Calibration/Maximum runs",
+                              "6",
+                              [](const P &p) {
+                                return num(p.calibration.maximum_runs);
+                              }},
                              {"Wear/Run-in file",
                               source + "/data/wear/example-run-in.csv",
                               [](const P &p) {

@@ -400,13 +400,51 @@ namespace TKR::Parameters
     parse_parameters(dealii::ParameterHandler &prm);
   };
 
+  /**
+   * `subsection Calibration` (`Problem = calibration`, doc/calibration.md):
+   * fit entries of one or more wear runs to measured mass loss.
+   */
+  struct Calibration
+  {
+    /** One design: its wear run's parameter file and its measured data. */
+    struct Design
+    {
+      std::string base_file, measured_file;
+    };
+    /** `BASE.prm: MEASURED.csv` separated by `;` (paths resolved). */
+    std::vector<Design> designs;
+    /** What is fitted: some of `Wear/Archard/Wear coefficient`, `Run-in
+     *  factor`, `Run-in length` (in this order, as listed). */
+    std::vector<std::string> fit;
+    /** The run-in's start values (and fixed values if not fitted). */
+    double run_in_factor, run_in_length;
+    /** The confidence level of the intervals (0..1). */
+    double confidence_level;
+    /** Stop when the verification run's masses differ from the
+     *  prediction by at most this fraction of the largest measured mass. */
+    double tolerance;
+    /** Wear runs per design at most. */
+    unsigned int maximum_runs;
+
+    /** @p designs (`BASE: MEASURED; ...`) with each path taken from
+     *  @p directory as other file entries are (resolve_path()). */
+    static std::string
+    resolve_designs(const std::string &designs, const std::string &directory);
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+
   /** The problems the program solves (`set Problem = ...`). */
   enum class ProblemType
   {
     elasticity,
     contact,
     wear,
-    study
+    study,
+    calibration
   };
 
   /** All parameters of a run. */
@@ -424,6 +462,7 @@ namespace TKR::Parameters
     Output        output;
     Verification  verification;
     Study         study;
+    Calibration   calibration;
 
     /** The parameter file these values came from ("" for the defaults). */
     std::string parameter_file;

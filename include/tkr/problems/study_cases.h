@@ -6,7 +6,10 @@
 
 #include <tkr/parameters/parameters.h>
 
+#include <fstream>
+#include <iostream>
 #include <map>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -65,6 +68,39 @@ namespace TKR::Problems
                const unsigned int n_dimensions,
                const unsigned int seed,
                const bool         latin_hypercube);
+
+  /**
+   * std::cout and std::cerr into a run's log file (on @p is_group_root,
+   * the rank that writes) or a string (the other ranks) while the guard
+   * lives: a study's case, a calibration's wear run.
+   */
+  class CaseOutput
+  {
+  public:
+    CaseOutput(const std::string &filename, const bool is_group_root)
+    {
+      if (is_group_root)
+        file.open(filename);
+      std::streambuf *target = is_group_root ?
+                                 static_cast<std::streambuf *>(file.rdbuf()) :
+                                 static_cast<std::streambuf *>(other.rdbuf());
+      out                    = std::cout.rdbuf(target);
+      err                    = std::cerr.rdbuf(target);
+    }
+    ~CaseOutput()
+    {
+      std::cout.flush();
+      std::cerr.flush();
+      std::cout.rdbuf(out);
+      std::cerr.rdbuf(err);
+    }
+
+  private:
+    std::ofstream      file;
+    std::ostringstream other;
+    std::streambuf    *out;
+    std::streambuf    *err;
+  };
 
   /**
    * The text of a case's parameter file: include @p base_file, then the
