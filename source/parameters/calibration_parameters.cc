@@ -72,9 +72,12 @@ namespace TKR::Parameters
         "Fit",
         "Wear/Archard/Wear coefficient",
         Patterns::MultipleSelection(
-          "Wear/Archard/Wear coefficient|Run-in factor|Run-in length"),
+          "Wear/Archard/Wear coefficient|Wear/Archard cs/Table scale|"
+          "Wear/Area/Table scale|Run-in factor|Run-in length"),
         "What is fitted (least squares on the mass loss): the Archard "
-        "coefficient (Wear law = archard), the run-in's initial factor "
+        "coefficient (Wear law = archard) or a cross-shear table's scale "
+        "(archard_cs, area: one of these three, the designs' law's), the "
+        "run-in's initial factor "
         "and its length (the run-in falls linearly from the factor at 0 "
         "cycles to 1 at the length; written as the run-in file of "
         "calibrated.prm). Entries not fitted keep the base files' values.");

@@ -33,9 +33,10 @@ namespace TKR::Problems
     std::string
     key(const std::string &name)
     {
-      return name == "Run-in factor" ? "run_in_factor" :
-             name == "Run-in length" ? "run_in_length" :
-                                       "wear_coefficient";
+      return name == "Run-in factor"                       ? "run_in_factor" :
+             name == "Run-in length"                       ? "run_in_length" :
+             name.find("Table scale") != std::string::npos ? "table_scale" :
+                                                             "wear_coefficient";
     }
 
     std::string
@@ -387,8 +388,14 @@ namespace TKR::Problems
     entries << "# Include this file after a design's own parameter file to "
                "run it with them.\nsubsection Wear\n";
     if (at.coefficient > 0)
-      entries << "  subsection Archard\n    set Wear coefficient = "
-              << number(at.coefficient, 12) << "\n  end\n";
+      {
+        // Wear/LAW/ENTRY: the law's subsection inside Wear.
+        const std::string inner = rate_entry.substr(5);
+        const std::size_t slash = inner.find('/');
+        entries << "  subsection " << inner.substr(0, slash) << "\n    set "
+                << inner.substr(slash + 1) << " = "
+                << number(at.coefficient, 12) << "\n  end\n";
+      }
     if (at.fitted_run_in)
       {
         entries << "  set Run-in file = calibrated-run-in.csv\n";

@@ -18,6 +18,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -28,7 +29,12 @@ namespace TKR::Problems
 
   namespace
   {
-    const std::string coefficient_entry = "Wear/Archard/Wear coefficient";
+    /** Per wear law, the entry that scales its rate: the "k" of
+     *  tau = k F(c). */
+    const std::map<std::string, std::string> rate_entries = {
+      {"archard", "Wear/Archard/Wear coefficient"},
+      {"archard_cs", "Wear/Archard cs/Table scale"},
+      {"area", "Wear/Area/Table scale"}};
 
     std::string
     number(const double value, const unsigned int digits = 10)
@@ -151,6 +157,18 @@ namespace TKR::Problems
                               "Designs (BASE.prm: MEASURED.csv; ...)."));
     AssertThrow(!calibration.fit.empty(),
                 ExcInputError("Calibration/Fit is empty: say what to fit."));
+    for (const std::string &name : calibration.fit)
+      if (name != "Run-in factor" && name != "Run-in length")
+        {
+          AssertThrow(rate_entry.empty(),
+                      ExcInputError(
+                        "Calibration/Fit names <" + rate_entry + "> and <" +
+                        name +
+                        ">: both scale the wear rate, the data cannot "
+                        "tell them apart; fit the one of the designs' "
+                        "wear law."));
+          rate_entry = name;
+        }
     for (const auto &files : calibration.designs)
       read_design(files);
     check_identifiable();
@@ -175,16 +193,15 @@ namespace TKR::Problems
     AssertThrow(design.base.problem == Parameters::ProblemType::wear,
                 ExcInputError("Calibration/Designs: <" + files.base_file +
                               "> is not a wear run (Problem = wear)."));
-    const bool fits_coefficient = std::count(parameters.calibration.fit.begin(),
-                                             parameters.calibration.fit.end(),
-                                             coefficient_entry) > 0;
-    AssertThrow(!fits_coefficient || design.base.wear.law == "archard",
-                ExcInputError("Calibration/Fit names <" + coefficient_entry +
+    const auto law_entry = rate_entries.find(design.base.wear.law);
+    AssertThrow(rate_entry.empty() || (law_entry != rate_entries.end() &&
+                                       law_entry->second == rate_entry),
+                ExcInputError("Calibration/Fit names <" + rate_entry +
                               ">, but <" + files.base_file +
                               "> runs the wear law <" + design.base.wear.law +
                               ">, which does not use it."));
-    if (design.base.wear.law == "archard")
-      design.coefficient = std::stod(design.base.entries.at(coefficient_entry));
+    if (law_entry != rate_entries.end())
+      design.coefficient = std::stod(design.base.entries.at(law_entry->second));
     if (!design.base.wear.run_in_file.empty())
       design.run_in = Wear::read_run_in(design.base.wear.run_in_file);
 
@@ -269,10 +286,10 @@ namespace TKR::Problems
     values.run_in_length = parameters.calibration.run_in_length;
     for (const std::string &name : parameters.calibration.fit)
       {
-        (name == coefficient_entry ? values.coefficient :
-         name == "Run-in factor"   ? values.run_in_factor :
-                                     values.run_in_length) = x[i++];
-        values.fitted_run_in |= name != coefficient_entry;
+        (name == rate_entry      ? values.coefficient :
+         name == "Run-in factor" ? values.run_in_factor :
+                                   values.run_in_length) = x[i++];
+        values.fitted_run_in |= name != rate_entry;
       }
     return values;
   }
@@ -310,8 +327,8 @@ namespace TKR::Problems
         std::string described;
         if (at.coefficient > 0)
           {
-            entries[coefficient_entry] = number(at.coefficient, 12);
-            described += "k = " + number(at.coefficient, 6) + " mm^3/(N m)";
+            entries[rate_entry] = number(at.coefficient, 12);
+            described += rate_entry + " = " + number(at.coefficient, 6);
           }
         if (at.fitted_run_in)
           {

@@ -10,12 +10,17 @@ namespace TKR::Wear
 {
   namespace
   {
-    /** The table of the law @p name (its own entries). */
+    /** The table entries of the law @p name (its own entries). */
+    const CrossShearLawParameters &
+    entries_of(const Parameters::Wear &parameters, const std::string &name)
+    {
+      return parameters.laws.get<CrossShearLawParameters>(name);
+    }
+
     const std::string &
     table_of(const Parameters::Wear &parameters, const std::string &name)
     {
-      return parameters.laws.get<CrossShearLawParameters>(name)
-        .cross_shear_table;
+      return entries_of(parameters, name).cross_shear_table;
     }
 
     /**
@@ -42,9 +47,18 @@ namespace TKR::Wear
               "only: no published coefficients are shipped. A relative "
               "path is taken from the directory of the parameter file that "
               "sets it, then from the working directory.");
+          prm.declare_entry(
+            "Table scale",
+            "1",
+            dealii::Patterns::Double(0),
+            "A factor on the table's coefficient (1: the table as it is): "
+            "what Problem = calibration fits to measured wear when the "
+            "table's shape is known and its level is not "
+            "(doc/calibration.md).");
         },
         [](const dealii::ParameterHandler &prm) -> std::any {
-          return CrossShearLawParameters{prm.get("Cross-shear table")};
+          return CrossShearLawParameters{prm.get("Cross-shear table"),
+                                         prm.get_double("Table scale")};
         },
         {"Cross-shear table"},
         {"Cross-shear table"}};
@@ -78,7 +92,8 @@ namespace TKR::Wear
          return std::make_unique<ArchardCrossShearWear>(
            CrossShearTable(table_of(parameters, "archard_cs"),
                            "k_mm3_per_Nm",
-                           true));
+                           true),
+           entries_of(parameters, "archard_cs").table_scale);
        }});
 
     [[maybe_unused]] const bool area_registered = WearLaws::add(
@@ -90,7 +105,8 @@ namespace TKR::Wear
        table_missing("area"),
        [](const Parameters::Wear &parameters) -> std::unique_ptr<WearLaw> {
          return std::make_unique<AreaWear>(
-           CrossShearTable(table_of(parameters, "area"), "C", false));
+           CrossShearTable(table_of(parameters, "area"), "C", false),
+           entries_of(parameters, "area").table_scale);
        }});
   } // namespace
 
@@ -104,8 +120,10 @@ namespace TKR::Wear
   }
 
   ArchardCrossShearWear::ArchardCrossShearWear(
-    const CrossShearTable &k_per_metre)
+    const CrossShearTable &k_per_metre,
+    const double           scale)
     : k_per_metre(k_per_metre)
+    , scale(scale)
   {}
 
   std::string
@@ -114,7 +132,8 @@ namespace TKR::Wear
     return "Archard, k(cross-shear" +
            std::string(k_per_metre.depends_on_pressure() ? ", pressure" : "") +
            ") in mm^3/(N m) from <" +
-           std::filesystem::path(k_per_metre.file()).filename().string() + ">";
+           std::filesystem::path(k_per_metre.file()).filename().string() + ">" +
+           (scale == 1 ? "" : " x " + std::to_string(scale));
   }
 
   double
@@ -126,21 +145,23 @@ namespace TKR::Wear
     const double           pa       = interval.pressure_start[j];
     const double           pb       = interval.pressure_end[j];
     // k in mm^3/(N mm) = mm^2/N: the table's mm^3/(N m) x 1e-3.
-    return 0.5e-3 *
+    return 0.5e-3 * scale *
            (k_per_metre.value(ratio[j], pa) * pa *
               interval.slip_start[j].norm() +
             k_per_metre.value(ratio[j], pb) * pb * interval.slip_end[j].norm());
   }
 
-  AreaWear::AreaWear(const CrossShearTable &c)
+  AreaWear::AreaWear(const CrossShearTable &c, const double scale)
     : c(c)
+    , scale(scale)
   {}
 
   std::string
   AreaWear::law_description() const
   {
     return "contact area, C(cross-shear) from <" +
-           std::filesystem::path(c.file()).filename().string() + ">";
+           std::filesystem::path(c.file()).filename().string() + ">" +
+           (scale == 1 ? "" : " x " + std::to_string(scale));
   }
 
   double
@@ -148,6 +169,6 @@ namespace TKR::Wear
                            const unsigned int  i,
                            const unsigned int  j) const
   {
-    return c.value(ratio[j]) * sliding.interval(i).slip_distance(j);
+    return scale * c.value(ratio[j]) * sliding.interval(i).slip_distance(j);
   }
 } // namespace TKR::Wear

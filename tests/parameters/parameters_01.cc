@@ -572,6 +572,24 @@ namespace
                                 return file_name(table(p, "archard_cs"));
                               },
                               true},
+                             {"Wear/Archard cs/Table scale",
+                              "1.5",
+                              [](const P &p) {
+                                return num(
+                                  p.wear.laws
+                                    .get<TKR::Wear::CrossShearLawParameters>(
+                                      "archard_cs")
+                                    .table_scale);
+                              }},
+                             {"Wear/Area/Table scale",
+                              "0.5",
+                              [](const P &p) {
+                                return num(
+                                  p.wear.laws
+                                    .get<TKR::Wear::CrossShearLawParameters>(
+                                      "area")
+                                    .table_scale);
+                              }},
                              {"Wear/Area/Cross-shear table",
                               source + "/data/wear/example-area-law.csv",
                               [](const P &p) {

@@ -13,7 +13,10 @@
 # 3. one specimen: the interval from the residuals holds the true values;
 # 4. the run-in length fitted without weighings during the run-in:
 #    refused with one message before any run, exit 1;
-# 5. data that say they are illustrative: the output says so.
+# 5. data that say they are illustrative: the output says so;
+# 6. a cross-shear table's scale (archard_cs, a constant table of 2e-7 on
+#    design A's data of k = 3e-7): Table scale 1.5 within 1 % and inside
+#    its interval, calibrated.prm = the last run (1e-9).
 set -u
 exe=$1
 mpiexec=$2
@@ -29,13 +32,16 @@ check() { # check NAME COMMAND...: run COMMAND, report ok/FAILED
   shift
   if "$@"; then echo "ok: $name"; else echo "FAILED: $name"; failures=$((failures + 1)); fi
 }
-truth() { # truth DIR [k factor length]: the fit holds the known values
-  "$python" - "$1" <<'PY'
+truth() { # truth DIR [KEY]: the fit holds the known values (only KEY's)
+  "$python" - "$@" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1] + "/calibration.json"))
-true = {"wear_coefficient": 3e-7, "run_in_factor": 2.5, "run_in_length": 4e5}
+true = {"wear_coefficient": 3e-7, "run_in_factor": 2.5, "run_in_length": 4e5, "table_scale": 1.5}
 good = r["verified"]
 for key, value in r["fitted"].items():
+    if len(sys.argv) > 2 and key != sys.argv[2]:
+        print("%s: %.6g in [%.6g, %.6g] (not checked)" % (key, value, r["lower"][key], r["upper"][key]))
+        continue
     inside = r["lower"][key] <= true[key] <= r["upper"][key]
     error = abs(value / true[key] - 1)
     print("%s: %.6g in [%.6g, %.6g] (true %.6g, error %.2f %%)%s"
@@ -59,9 +65,13 @@ grep -q "over the 6 specimens" two-designs/calibration.json || { echo "FAILED: n
 "$exe" two-designs/calibrated.prm > calibrated.log 2>&1
 check "calibrated.prm runs" test $? -eq 0
 mass_of() { tail -1 "$1" | cut -d, -f4; }
-check "calibrated.prm = the last calibration run of design A" "$python" -c "
-import sys; a, b = float('$(mass_of two-designs/calibrated/wear_history.csv)'), float('$(mass_of two-designs/run-2/tkr-a/wear_history.csv)')
-print('calibrated.prm', a, 'mg; run 2', b, 'mg'); sys.exit(abs(a / b - 1) > 1e-9)"
+same_mass() { # same_mass A.csv B.csv: the last mass agrees to 1e-9
+  "$python" -c "
+import sys; a, b = float('$(mass_of "$1")'), float('$(mass_of "$2")')
+print('calibrated.prm', a, 'mg; last run', b, 'mg'); sys.exit(abs(a / b - 1) > 1e-9)"
+}
+check "calibrated.prm = the last calibration run of design A" \
+  same_mass two-designs/calibrated/wear_history.csv two-designs/run-2/tkr-a/wear_history.csv
 
 # 3. One specimen: the interval from the residuals.
 "$exe" "$data/one-specimen.prm" > one.log 2>&1
@@ -85,6 +95,15 @@ check "illustrative data: in calibration.json" grep -q '"illustrative_data": tru
 check "illustrative data: in calibrated-entries.prm" grep -q "ILLUSTRATIVE" illustrative/calibrated-entries.prm
 check "calibration.png drawn" test -s illustrative/calibration.png
 grep -A4 "^Calibration of" illustrative.log
+
+# 6. A cross-shear table's scale.
+"$exe" "$data/table-scale.prm" > table.log 2>&1
+check "table scale: exit 0" test $? -eq 0
+check "table scale: 1.5 recovered" truth table-scale table_scale
+check "table scale: in calibrated-entries.prm" grep -q "set Table scale = 1.50" table-scale/calibrated-entries.prm
+"$exe" table-scale/calibrated.prm > table-calibrated.log 2>&1
+check "table scale: calibrated.prm = the last run" \
+  same_mass table-scale/calibrated/wear_history.csv table-scale/run-2/tkr-a-cs/wear_history.csv
 
 if [ "$failures" -ne 0 ]; then
   echo "$failures check(s) failed; logs:"

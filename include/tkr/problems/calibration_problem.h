@@ -49,7 +49,8 @@ namespace TKR::Problems
     {
       std::string               name, base_file, measured_file;
       Parameters::AllParameters base;
-      /** The base's Archard coefficient (1 for other laws). */
+      /** The base's value of the entry that scales its law's rate (the
+       *  Archard coefficient, the table scale). */
       double coefficient = 1;
       /** The base's run-in (empty: none). */
       Wear::PiecewiseLinear run_in;
@@ -170,6 +171,9 @@ namespace TKR::Problems
     std::vector<Design>             designs;
     std::vector<Calibration::Point> points;
     double                          largest_mass = 0;
+    /** The fitted entry that scales the wear rate (the Archard
+     *  coefficient, a table's scale), "" if none is fitted. */
+    std::string rate_entry;
   };
 } // namespace TKR::Problems
 

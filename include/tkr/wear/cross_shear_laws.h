@@ -17,6 +17,9 @@ namespace TKR::Wear
   {
     /** The CSV table of the coefficient over the cross-shear. */
     std::string cross_shear_table;
+    /** A factor on the table's coefficient (`Table scale`; what a
+     *  calibration fits, doc/calibration.md). */
+    double table_scale = 1;
   };
 
   /**
@@ -47,7 +50,9 @@ namespace TKR::Wear
   class ArchardCrossShearWear : public CrossShearLaw
   {
   public:
-    explicit ArchardCrossShearWear(const CrossShearTable &k_per_metre);
+    /** k = @p scale x the table's value. */
+    ArchardCrossShearWear(const CrossShearTable &k_per_metre,
+                          const double           scale = 1);
 
     std::string
     name() const override
@@ -67,6 +72,7 @@ namespace TKR::Wear
   private:
     /** k in mm^3/(N m) over cross-shear (and pressure in MPa). */
     const CrossShearTable k_per_metre;
+    const double          scale;
   };
 
   /**
@@ -79,7 +85,8 @@ namespace TKR::Wear
   class AreaWear : public CrossShearLaw
   {
   public:
-    explicit AreaWear(const CrossShearTable &c);
+    /** C = @p scale x the table's value. */
+    AreaWear(const CrossShearTable &c, const double scale = 1);
 
     std::string
     name() const override
@@ -98,6 +105,7 @@ namespace TKR::Wear
 
   private:
     const CrossShearTable c;
+    const double          scale;
   };
 } // namespace TKR::Wear
 
