@@ -32,6 +32,8 @@ namespace
       << "       tkr-wear --print-parameters write the documented default "
          "parameter file\n"
       << "       tkr-wear --help             this text\n"
+      << "SIGTERM or SIGUSR1 stops a wear run or a study with a checkpoint "
+         "(exit code 3;\n--resume continues it; doc/cluster.md).\n"
       << "Run in parallel with: mpirun -np N tkr-wear FILE.prm\n";
   }
 
@@ -54,6 +56,11 @@ namespace
                               "wear) or a study; <" +
                               filename + "> sets Problem = " +
                               Parameters::to_string(parameters.problem) + "."));
+    // A cluster's time limit: a wear run or a study stops with a
+    // checkpoint (doc/cluster.md).
+    if (parameters.problem == Parameters::ProblemType::wear ||
+        parameters.problem == Parameters::ProblemType::study)
+      install_stop_handlers();
     switch (parameters.problem)
       {
         case Parameters::ProblemType::elasticity:
@@ -122,6 +129,16 @@ main(int argc, char *argv[])
         run(resume ? argv[2] : argument, resume, mpi_communicator);
       MPI_Comm_free(&error_communicator);
       return code;
+    }
+  catch (const TKR::ExcStopped &exc)
+    {
+      // Raised on every rank: the stop is agreed collectively.
+      MPI_Comm_free(&error_communicator);
+      if (is_root)
+        std::cout << "tkr-wear: " << TKR::exception_message(exc)
+                  << " (exit code " << TKR::stopped_exit_code << ")"
+                  << std::endl;
+      return TKR::stopped_exit_code;
     }
   catch (const TKR::ExcInputError &exc)
     {

@@ -9,11 +9,46 @@
 
 #include <chrono>
 #include <climits>
+#include <csignal>
 #include <string>
 #include <thread>
 
 namespace TKR
 {
+  namespace
+  {
+    /** The stop signal received (0: none), set by the handler. */
+    volatile std::sig_atomic_t received_signal = 0;
+
+    extern "C" void
+    record_stop_signal(int signal)
+    {
+      received_signal = signal;
+    }
+  } // namespace
+
+  void
+  install_stop_handlers()
+  {
+    std::signal(SIGTERM, record_stop_signal);
+    std::signal(SIGUSR1, record_stop_signal);
+  }
+
+  int
+  stop_requested(const MPI_Comm communicator)
+  {
+    return dealii::Utilities::MPI::max(static_cast<int>(received_signal),
+                                       communicator);
+  }
+
+  std::string
+  signal_name(const int signal)
+  {
+    return signal == SIGTERM ? "SIGTERM" :
+           signal == SIGUSR1 ? "SIGUSR1" :
+                               "signal " + std::to_string(signal);
+  }
+
   void
   sum_over_ranks(std::vector<double> &values, const MPI_Comm communicator)
   {

@@ -358,10 +358,16 @@ namespace TKR::Problems
     saved_steps.clear();
     check_overlap = initial_geometry;
     std::string error;
+    int         signal = 0;
     try
       {
+        // A stop signal ends the cycle between steps (every rank of a
+        // group at the same step: the check is collective in the group).
         for (const unsigned int step : steps)
-          solve_step(step, print_steps, keep_for_output);
+          if ((signal = stop_requested(groups.communicator)) == 0)
+            solve_step(step, print_steps, keep_for_output);
+          else
+            break;
       }
     catch (const ExcInputError &exc)
       {
@@ -370,6 +376,8 @@ namespace TKR::Problems
     for (const std::string &message :
          Utilities::MPI::all_gather(model.world(), error))
       AssertThrow(message.empty(), ExcInputError(message));
+    signal = Utilities::MPI::max(signal, model.world());
+    AssertThrow(signal == 0, ExcStopped(signal_name(signal)));
     {
       TimerOutput::Scope scope(model.timer(), "collect steps");
       gather_steps(groups.is_group_root ? steps : std::vector<unsigned int>());

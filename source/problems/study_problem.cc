@@ -318,15 +318,31 @@ namespace TKR::Problems
     MPI_Comm  error_communicator;
     const int ierr = MPI_Comm_dup(group.communicator, &error_communicator);
     AssertThrowMPI(ierr);
+    // A stop signal: each group ends its case (with its checkpoint) or
+    // takes no new one; cases without a status are continued by --resume.
+    int signal = 0;
     {
       CaseQueue queue(mpi_communicator, n_groups > 1);
       for (unsigned int index = queue.next(group); index < cases.size();
            index              = queue.next(group))
-        run_case(index, group, error_communicator);
+        if ((signal = stop_requested(group.communicator)) != 0 ||
+            run_case(index, group, error_communicator))
+          {
+                         signal = std::max(signal, stop_requested(group.communicator));
+                         break;
+          }
     }
     MPI_Comm_free(&error_communicator);
 
     MPI_Barrier(mpi_communicator);
+    signal = Utilities::MPI::max(signal, mpi_communicator);
+    AssertThrow(signal == 0,
+                ExcStopped("Stopped by " + signal_name(signal) +
+                           ": the cases done are kept (status.json), the "
+                           "interrupted ones have their checkpoints; "
+                           "tkr-wear --resume " +
+                           parameters.parameter_file +
+                           " continues the study."));
     unsigned int n_failed = 0;
     if (is_root)
       n_failed = output_results();
@@ -405,6 +421,12 @@ namespace TKR::Problems
                              "the steps)";
           }
       }
+    catch (const ExcStopped &exc)
+      {
+        // Its checkpoint written: --resume continues the case.
+        outcome.status = "stopped";
+        outcome.reason = exception_message(exc);
+      }
     catch (const ExceptionBase &exc)
       {
         outcome.status = "failed";
@@ -424,7 +446,7 @@ namespace TKR::Problems
     return outcome;
   }
 
-  void
+  bool
   StudyProblem::run_case(const unsigned int index,
                          const StepGroups  &group,
                          const MPI_Comm     error_communicator)
@@ -434,10 +456,14 @@ namespace TKR::Problems
     if (group.is_group_root)
       skip = resume && !read_case_status(status_file).fields.empty();
     if (Utilities::MPI::broadcast(group.communicator, skip, 0))
-      return;
+      return false;
 
     const double      start   = MPI_Wtime();
     const CaseOutcome outcome = run_wear_case(index, group);
+    // Stopped on every rank of the group (the stop is agreed in it): no
+    // status, so that --resume continues the case.
+    if (outcome.status == "stopped")
+      return true;
     // An error raised on some ranks of the group only leaves the others
     // waiting in the case forever (they hold no exception): end the study
     // (the cases done stay done; --resume continues it). A run that did not
@@ -455,7 +481,7 @@ namespace TKR::Problems
       }
     const double wall_time = MPI_Wtime() - start;
     if (!group.is_group_root)
-      return;
+      return false;
     // The case's status and, if it is done, its results: what the study's
     // table is written from (output_results()).
     Output::Summary json;
@@ -479,6 +505,7 @@ namespace TKR::Problems
                  << value << " mg";
         std::cout << line.str() + "\n" << std::flush;
       }
+    return false;
   }
 
   unsigned int

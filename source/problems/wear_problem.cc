@@ -392,6 +392,37 @@ namespace TKR::Problems
     if (output.checkpoint_interval == 0 ||
         (state.block % output.checkpoint_interval != 0 && !done))
       return;
+    write_checkpoint();
+  }
+
+  void
+  WearProblem::stop(const std::string                  &signal,
+                    const std::vector<Gait::StepStart> &starts)
+  {
+    const std::string file = model.parameters().parameter_file;
+    std::string       kept =
+      "before block 1 was done: there is nothing to continue; run <" + file +
+      "> again";
+    if (state.block > 0)
+      {
+        cycle.set_step_starts(starts);
+        write_checkpoint();
+        kept = "the checkpoint <" +
+               Output::checkpoint_file(model.parameters().output.directory) +
+               "> holds block " + std::to_string(state.block) + " (" +
+               format_number(state.cycles, 6) + " cycles); tkr-wear --resume " +
+               file + " continues the run";
+      }
+    AssertThrow(false,
+                ExcStopped("Stopped by " + signal + " during block " +
+                           std::to_string(state.block + 1) + ": " + kept +
+                           "."));
+  }
+
+  void
+  WearProblem::write_checkpoint()
+  {
+    const auto        &output = model.parameters().output;
     TimerOutput::Scope scope(model.timer(), "checkpoint");
     state.displacement           = model.geometry().vertex_displacements();
     state.stiffness_displacement = model.geometry().vertex_displacements(true);
@@ -525,7 +556,17 @@ namespace TKR::Problems
         if (first)
           model.pcout() << "Gait cycle, " << cycle.n_steps()
                         << " steps:" << std::endl;
-        cycle.solve(first, last, first);
+        // What a checkpoint of the last block done keeps, should a stop
+        // signal end this block's cycle (its steps overwrite them).
+        const std::vector<Gait::StepStart> starts = cycle.get_step_starts();
+        try
+          {
+            cycle.solve(first, last, first);
+          }
+        catch (const ExcStopped &exc)
+          {
+            stop(exception_message(exc), starts);
+          }
         compute_wear();
         extrapolate();
         finish_block(block_timer.wall_time());

@@ -21,6 +21,17 @@ namespace TKR
   DeclException1(ExcInputError, std::string, << arg1);
 
   /**
+   * A run stopped by SIGTERM or SIGUSR1 (a cluster's time limit,
+   * stop_requested()) after writing what `--resume` continues from; the
+   * message says what was kept. The application prints it and exits with
+   * stopped_exit_code.
+   */
+  DeclException1(ExcStopped, std::string, << arg1);
+
+  /** The exit code of a run stopped by a signal (doc/cluster.md). */
+  constexpr int stopped_exit_code = 3;
+
+  /**
    * The message of an exception without deal.II's header (file, line,
    * function, condition): what ExceptionBase::print_info() writes, trimmed.
    */

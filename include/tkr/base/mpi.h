@@ -141,6 +141,26 @@ namespace TKR
   constexpr double error_grace_seconds = 30;
 
   /**
+   * From now on, SIGTERM and SIGUSR1 (what SLURM and PBS send before a
+   * job's time limit) set a flag instead of ending the process; the wear
+   * run and the study check it (stop_requested()) at safe points and stop
+   * with a consistent checkpoint (doc/cluster.md).
+   */
+  void
+  install_stop_handlers();
+
+  /**
+   * The signal one of the ranks of @p communicator received (SIGTERM,
+   * SIGUSR1), or 0 if none did. Collective.
+   */
+  int
+  stop_requested(const MPI_Comm communicator);
+
+  /** "SIGTERM", "SIGUSR1" or "signal N". */
+  std::string
+  signal_name(const int signal);
+
+  /**
    * The split of the ranks of a communicator into groups that share
    * independent work items, e.g. the steps of a gait cycle (rank r is in
    * group r * n_groups / n_ranks; group g does the items g, g + n_groups,

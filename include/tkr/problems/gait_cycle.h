@@ -72,7 +72,10 @@ namespace TKR::Problems
      * overlap more than the `Overlap tolerance` (a check of the mesh and
      * the flexion axis; a warm-started worn state carries the elastic
      * indentation of the block before). An input error in one step group
-     * is raised on every rank. Returns true if every step converged.
+     * is raised on every rank. A stop signal (stop_requested()) ends the
+     * cycle before its next step and raises ExcStopped (its message the
+     * signal's name) on every rank; the step starts of the steps done are
+     * then the new ones. Returns true if every step converged.
      */
     bool
     solve(const bool print_steps,

@@ -60,8 +60,9 @@ namespace TKR::Problems
     CaseOutcome
     run_wear_case(const unsigned int index, const StepGroups &group) const;
 
-    /** Run case @p index on this group; its status record. */
-    void
+    /** Run case @p index on this group; its status record. True if a
+     *  stop signal ended it (no status: --resume continues it). */
+    bool
     run_case(const unsigned int index,
              const StepGroups  &group,
              const MPI_Comm     error_communicator);

@@ -113,6 +113,18 @@ namespace TKR::Problems
                        const Geometry::Distortion &distortion,
                        const std::vector<double>  &increment) const;
 
+    /**
+     * A stop @p signal ended the cycle of the next block: write the
+     * checkpoint of the last block done (its step starts @p starts, from
+     * before the cycle) and raise ExcStopped saying what was kept.
+     */
+    void
+    stop(const std::string &signal, const std::vector<Gait::StepStart> &starts);
+
+    /** checkpoint.h5 of the state after the last block done. */
+    void
+    write_checkpoint();
+
     /** History row, progress line, worn tibia VTU, checkpoint. */
     void
     finish_block(const double block_wall_time);
