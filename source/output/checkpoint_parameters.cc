@@ -76,7 +76,10 @@ namespace TKR::Output
         {"Gait/Displacement control/AP displacement sign", "1"},
         {"Gait/Displacement control/IE rotation sign", "1"},
         {"Gait/Femur AP offset", "0"},
-        {"Gait/Channel scales", ""}};
+        {"Gait/Channel scales", ""},
+        {"Wear/Cross-shear definition", "work tensor"},
+        {"Wear/Archard cs/Table scale", "1"},
+        {"Wear/Area/Table scale", "1"}};
       return added;
     }
 

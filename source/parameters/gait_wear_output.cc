@@ -253,6 +253,18 @@ namespace TKR::Parameters
                         "5e6",
                         Patterns::Double(0),
                         "Number of gait cycles to simulate.");
+      prm.declare_entry(
+        "Cross-shear definition",
+        "work tensor",
+        Patterns::Selection("work tensor|abs sin"),
+        "How each node's cross-shear ratio is computed (doc/wear.md, "
+        "Cross-shear): work tensor, the work across the principal molecular "
+        "orientation (PMO) by the sin^2 of each slip's angle to it, the PMO "
+        "the work tensor's principal direction (ratio 0..0.5); abs sin, by "
+        "the |sin|, the PMO the direction of most work by |cos|, found "
+        "numerically (ratio 0..0.7071). A cross-shear table names its "
+        "definition by its column (cross_shear, cross_shear_abs_sin) and is "
+        "refused with the other.");
       prm.declare_entry("Cycles per extrapolation step",
                         "5e4",
                         Patterns::Double(1),
@@ -304,9 +316,10 @@ namespace TKR::Parameters
   {
     prm.enter_subsection("Wear");
     {
-      law         = prm.get("Wear law");
-      run_in_file = prm.get("Run-in file");
-      laws        = TKR::Wear::WearLaws::parse_parameters(prm);
+      law                    = prm.get("Wear law");
+      run_in_file            = prm.get("Run-in file");
+      cross_shear_definition = prm.get("Cross-shear definition");
+      laws                   = TKR::Wear::WearLaws::parse_parameters(prm);
       TKR::Wear::check_wear_law(*this);
       cycles = prm.get_double("Cycles");
       cycles_per_extrapolation_step =

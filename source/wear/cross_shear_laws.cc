@@ -92,7 +92,9 @@ namespace TKR::Wear
          return std::make_unique<ArchardCrossShearWear>(
            CrossShearTable(table_of(parameters, "archard_cs"),
                            "k_mm3_per_Nm",
-                           true),
+                           true,
+                           cross_shear_definition(
+                             parameters.cross_shear_definition)),
            entries_of(parameters, "archard_cs").table_scale);
        }});
 
@@ -105,7 +107,11 @@ namespace TKR::Wear
        table_missing("area"),
        [](const Parameters::Wear &parameters) -> std::unique_ptr<WearLaw> {
          return std::make_unique<AreaWear>(
-           CrossShearTable(table_of(parameters, "area"), "C", false),
+           CrossShearTable(table_of(parameters, "area"),
+                           "C",
+                           false,
+                           cross_shear_definition(
+                             parameters.cross_shear_definition)),
            entries_of(parameters, "area").table_scale);
        }});
   } // namespace

@@ -103,18 +103,40 @@ namespace TKR::Wear
     return PiecewiseLinear(cycles, factor);
   }
 
-  CrossShearTable::CrossShearTable(const std::string &filename,
-                                   const std::string &value_column,
-                                   const bool         with_pressure)
+  CrossShearTable::CrossShearTable(const std::string         &filename,
+                                   const std::string         &value_column,
+                                   const bool                 with_pressure,
+                                   const CrossShearDefinition definition)
     : filename(filename)
   {
-    const CsvTable table(filename,
+    // The cross-shear column names the definition the table was fitted
+    // with (doc/wear.md, Cross-shear tables).
+    const bool        abs_sin = definition == CrossShearDefinition::abs_sin;
+    const std::string column  = abs_sin ? "cross_shear_abs_sin" : "cross_shear";
+    const std::string other   = abs_sin ? "cross_shear" : "cross_shear_abs_sin";
+    const CsvTable    table(filename,
                          "cross-shear table",
-                         {"cross_shear", value_column},
-                         {"pressure_MPa"},
-                         "cross_shear," + value_column +
+                         {value_column},
+                         {"cross_shear", "cross_shear_abs_sin", "pressure_MPa"},
+                         column + "," + value_column +
                            (with_pressure ? "[,pressure_MPa]" : ""),
                          "doc/wear.md, Cross-shear tables");
+    AssertThrow(table.has_column(column) || !table.has_column(other),
+                ExcInputError(
+                  table.name() + " has the column " + other +
+                  ": it was fitted with the " +
+                  (abs_sin ? "work-tensor (sin^2)" : "|sin|") +
+                  " cross-shear, and this run computes the " +
+                  (abs_sin ? "|sin|" : "work-tensor (sin^2)") +
+                  " one (Wear/Cross-shear definition = " +
+                  (abs_sin ? "abs sin" : "work tensor") +
+                  "); a table and the run must use the same definition "
+                  "(doc/wear.md, Cross-shear)."));
+    AssertThrow(table.has_column(column),
+                ExcInputError(table.name() + " has no column " + column +
+                              " (the columns: " + column + "," + value_column +
+                              "; doc/wear.md, Cross-shear "
+                              "tables)."));
     AssertThrow(table.n_rows() > 0,
                 ExcInputError(table.name() + " has no rows of data."));
     AssertThrow(with_pressure || !table.has_column("pressure_MPa"),
@@ -122,19 +144,21 @@ namespace TKR::Wear
                               " has a column pressure_MPa, but this law's "
                               "coefficient depends on the cross-shear only "
                               "(doc/wear.md)."));
-    check_non_negative(table, "cross_shear");
-    // The ratio cannot exceed 1/2 (doc/wear.md, Cross-shear): a larger value
-    // is a table in another unit (percent), which would otherwise read every
-    // node near its first row.
+    check_non_negative(table, column);
+    // The ratio cannot exceed its definition's largest value (doc/wear.md,
+    // Cross-shear): a larger value is a table in another unit (percent),
+    // which would otherwise read every node near its first row.
+    const double largest = largest_cross_shear(definition);
     for (unsigned int r = 0; r < table.n_rows(); ++r)
-      AssertThrow(table(r, "cross_shear") <= 0.5,
-                  ExcInputError(table.where(r) + "cross_shear is " +
-                                format_number(table(r, "cross_shear")) +
-                                ", but the cross-shear is a ratio from 0 to "
-                                "0.5 (the frictional work across the "
-                                "principal molecular orientation over the "
-                                "total, doc/wear.md); a table in percent must "
-                                "be divided by 100."));
+      AssertThrow(table(r, column) <= largest * (1 + 1e-12),
+                  ExcInputError(
+                    table.where(r) + column + " is " +
+                    format_number(table(r, column)) +
+                    ", but the cross-shear is a ratio from 0 to " +
+                    (abs_sin ? "1/sqrt(2) = 0.7071" : "0.5") +
+                    " (the frictional work across the principal molecular "
+                    "orientation over the total, doc/wear.md); a table in "
+                    "percent must be divided by 100."));
     check_non_negative(table, value_column);
     const bool by_pressure = table.has_column("pressure_MPa");
     if (by_pressure)
@@ -156,11 +180,11 @@ namespace TKR::Wear
             cs.clear();
             values.clear();
           }
-        AssertThrow(cs.empty() || table(r, "cross_shear") > cs.back(),
+        AssertThrow(cs.empty() || table(r, column) > cs.back(),
                     ExcInputError(table.where(r) +
                                   "cross_shear must increase within the "
                                   "rows of one pressure."));
-        cs.push_back(table(r, "cross_shear"));
+        cs.push_back(table(r, column));
         values.push_back(table(r, value_column));
       }
     of_cross_shear.emplace_back(cs, values);

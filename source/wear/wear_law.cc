@@ -49,7 +49,7 @@ namespace TKR::Wear
   WearLaw::cycle_wear(const CycleSliding &sliding)
   {
     CycleWear wear;
-    wear.cross_shear = cycle_cross_shear(sliding);
+    wear.cross_shear = cycle_cross_shear(sliding, cross_shear_definition);
     analyse_cycle(sliding, wear.cross_shear);
     const unsigned int n_nodes = sliding.n_nodes();
     wear.depth.assign(n_nodes, 0.);
@@ -88,6 +88,8 @@ namespace TKR::Wear
     if (!parameters.run_in_file.empty())
       law->set_run_in(read_run_in(parameters.run_in_file),
                       parameters.run_in_file);
+    law->set_cross_shear_definition(
+      cross_shear_definition(parameters.cross_shear_definition));
     return law;
   }
 

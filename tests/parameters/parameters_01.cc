@@ -639,6 +639,11 @@ namespace
                               [](const P &p) {
                                 return num(p.calibration.maximum_runs);
                               }},
+                             {"Wear/Cross-shear definition",
+                              "abs sin",
+                              [](const P &p) {
+                                return p.wear.cross_shear_definition;
+                              }},
                              {"Wear/Run-in file",
                               source + "/data/wear/example-run-in.csv",
                               [](const P &p) {

@@ -226,6 +226,8 @@ namespace TKR::Parameters
     ModelParameters laws;
     /** The CSV table of the run-in factor over cycles (empty: none). */
     std::string run_in_file;
+    /** `work tensor` or `abs sin` (Wear::CrossShearDefinition). */
+    std::string cross_shear_definition;
     /** Total number of gait cycles. */
     double cycles;
     /** Cycles per extrapolation step (n_Delta). */

@@ -8,6 +8,7 @@
 
 #include <tkr/wear/sliding.h>
 
+#include <string>
 #include <vector>
 
 namespace TKR::Wear
@@ -25,9 +26,34 @@ namespace TKR::Wear
    * the total, lambda_2 / (lambda_1 + lambda_2): 0 for sliding along one
    * line, at most 1/2.
    */
+  /**
+   * How the cross-shear ratio is defined (`Wear/Cross-shear definition`,
+   * doc/wear.md "Cross-shear"): work_tensor, the quadratic (sin^2)
+   * projection above, the PMO in closed form, ratio in [0, 1/2];
+   * abs_sin, the frictional work across the PMO by the |sin| of each
+   * increment's angle to it, the PMO the direction of most work by |cos|
+   * (found by an exact sweep over the angles where the projections change
+   * sign), ratio in [0, 1/sqrt(2)]. Sliding along one line gives 0 in
+   * both; a narrow ellipse of aspect e about e^2 log(1/e) and e.
+   */
+  enum class CrossShearDefinition
+  {
+    work_tensor,
+    abs_sin
+  };
+
+  /** "work tensor" or "abs sin" (the entry's values). */
+  CrossShearDefinition
+  cross_shear_definition(const std::string &name);
+
+  /** The largest ratio of @p definition (1/2, 1/sqrt(2)). */
+  double
+  largest_cross_shear(const CrossShearDefinition definition);
+
   struct CrossShear
   {
-    /** lambda_2 / (lambda_1 + lambda_2), in [0, 1/2]; 0 without sliding. */
+    /** The ratio of the definition (work_tensor: lambda_2 / (lambda_1 +
+     *  lambda_2), in [0, 1/2]); 0 without sliding. */
     double ratio = 0;
     /** The principal molecular orientation (unit; its largest component
      *  positive); zero without sliding. */
@@ -38,10 +64,12 @@ namespace TKR::Wear
   };
 
   /** The cross-shear of the slip increments @p slips (mm) under the
-   *  pressures @p pressures (MPa). */
+   *  pressures @p pressures (MPa), by @p definition. */
   CrossShear
-  cross_shear(const std::vector<dealii::Tensor<1, 3>> &slips,
-              const std::vector<double>               &pressures);
+  cross_shear(
+    const std::vector<dealii::Tensor<1, 3>> &slips,
+    const std::vector<double>               &pressures,
+    const CrossShearDefinition definition = CrossShearDefinition::work_tensor);
 
   /**
    * The cross-shear of every `tibia_contact` node over the cycle
@@ -50,7 +78,9 @@ namespace TKR::Wear
    * law, so that `work` times k is the Archard depth of the cycle).
    */
   std::vector<CrossShear>
-  cycle_cross_shear(const CycleSliding &sliding);
+  cycle_cross_shear(
+    const CycleSliding        &sliding,
+    const CrossShearDefinition definition = CrossShearDefinition::work_tensor);
 } // namespace TKR::Wear
 
 #endif

@@ -4,6 +4,8 @@
 #ifndef tkr_wear_tables_h
 #define tkr_wear_tables_h
 
+#include <tkr/wear/cross_shear.h>
+
 #include <string>
 #include <utility>
 #include <vector>
@@ -73,13 +75,18 @@ namespace TKR::Wear
     CrossShearTable() = default;
 
     /**
-     * Read @p filename's columns `cross_shear`, @p value_column and (if
-     * @p with_pressure) `pressure_MPa`; ExcInputError naming the file and
-     * line on bad input (negative values included).
+     * Read @p filename's columns `cross_shear` (`cross_shear_abs_sin` for
+     * the |sin| @p definition: the column says which definition the table
+     * was fitted with, and a table of the other is refused), @p
+     * value_column and (if @p with_pressure) `pressure_MPa`; ExcInputError
+     * naming the file and line on bad input (negative values, a ratio
+     * beyond the definition's largest).
      */
-    CrossShearTable(const std::string &filename,
-                    const std::string &value_column,
-                    const bool         with_pressure);
+    CrossShearTable(const std::string         &filename,
+                    const std::string         &value_column,
+                    const bool                 with_pressure,
+                    const CrossShearDefinition definition =
+                      CrossShearDefinition::work_tensor);
 
     /** The value at cross-shear @p cs and pressure @p p (MPa). */
     double

@@ -108,6 +108,14 @@ namespace TKR::Wear
     void
     set_run_in(const PiecewiseLinear &factor, const std::string &file);
 
+    /** Compute the cross-shear by @p definition (`Wear/Cross-shear
+     *  definition`) from now on. */
+    void
+    set_cross_shear_definition(const CrossShearDefinition definition)
+    {
+      cross_shear_definition = definition;
+    }
+
     /** The run-in factor over the cycle count (empty without a run-in). */
     const PiecewiseLinear &
     get_run_in() const
@@ -132,6 +140,9 @@ namespace TKR::Wear
     /** The run-in factor over the cycle count (empty: none) and its file. */
     PiecewiseLinear run_in;
     std::string     run_in_file;
+    /** How cycle_wear() computes each node's cross-shear. */
+    CrossShearDefinition cross_shear_definition =
+      CrossShearDefinition::work_tensor;
   };
 
   /**
