@@ -42,7 +42,8 @@ stopped_run() { # stopped_run SIGNAL TARGET BLOCK: stop run.prm after BLOCK, res
   "$mpiexec" --oversubscribe -np 2 "$exe" "$data/run.prm" > stop.log 2>&1 &
   local pid=$!
   wait_for run/progress.log "Block    $3/"
-  if [ "$2" = mpirun ]; then kill -"$1" $pid; else pkill -"$1" -x tkr-wear; fi
+  # The ranks are mpirun's children (one node): only this run's ranks.
+  if [ "$2" = mpirun ]; then kill -"$1" $pid; else pkill -"$1" -P $pid -x tkr-wear; fi
   wait $pid
   local code=$?
   grep "Stopped by" stop.log
