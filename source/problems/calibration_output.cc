@@ -48,13 +48,6 @@ namespace TKR::Problems
       return list;
     }
 
-    std::string
-    number(const double value, const unsigned int digits = 10)
-    {
-      std::ostringstream text;
-      text << std::setprecision(digits) << value;
-      return text.str();
-    }
   } // namespace
 
   bool
@@ -84,9 +77,10 @@ namespace TKR::Problems
                                 largest_mass);
         if (is_root)
           std::cout << "  the masses of this run differ from the fit's "
-                    << "prediction by at most " << number(100 * mismatch, 3)
+                    << "prediction by at most "
+                    << format_number(100 * mismatch, 3)
                     << " % of the largest measured mass (Tolerance "
-                    << number(100 * calibration.tolerance, 3) << " %)"
+                    << format_number(100 * calibration.tolerance, 3) << " %)"
                     << std::endl;
         if (mismatch <= calibration.tolerance ||
             runs >= calibration.maximum_runs)
@@ -221,16 +215,18 @@ namespace TKR::Problems
       {
         const double computed = predict(check, result.x, point);
         table << designs[point.design].name << ","
-              << specimen_names[point.specimen] << "," << number(point.cycles)
-              << "," << number(point.mass) << "," << number(computed) << ","
-              << number(point.mass - computed) << "\n";
+              << specimen_names[point.specimen] << ","
+              << format_number(point.cycles, 10) << ","
+              << format_number(point.mass, 10) << ","
+              << format_number(computed, 10) << ","
+              << format_number(point.mass - computed, 10) << "\n";
         screen << "  " << std::left << std::setw(22)
                << designs[point.design].name.substr(0, 21) << std::setw(18)
                << specimen_names[point.specimen].substr(0, 17) << std::right
-               << std::setw(10) << number(point.cycles / 1e6, 4)
-               << std::setw(11) << number(point.mass, 5) << std::setw(11)
-               << number(computed, 5) << std::setw(10)
-               << number(point.mass - computed, 3) << "\n";
+               << std::setw(10) << format_number(point.cycles / 1e6, 4)
+               << std::setw(11) << format_number(point.mass, 5) << std::setw(11)
+               << format_number(computed, 5) << std::setw(10)
+               << format_number(point.mass - computed, 3) << "\n";
       }
     write_atomically(directory + "/calibration.csv", table.str());
 
@@ -252,9 +248,11 @@ namespace TKR::Problems
               lower = std::min(lower, predict(check, x, point));
               upper = std::max(upper, predict(check, x, point));
             }
-          curve_table << designs[d].name << "," << number(point.cycles) << ","
-                      << number(predict(check, result.x, point)) << ","
-                      << number(lower) << "," << number(upper) << "\n";
+          curve_table << designs[d].name << ","
+                      << format_number(point.cycles, 10) << ","
+                      << format_number(predict(check, result.x, point), 10)
+                      << "," << format_number(lower, 10) << ","
+                      << format_number(upper, 10) << "\n";
         }
     write_atomically(directory + "/calibration_curves.csv", curve_table.str());
     return {specimen_names, screen.str()};
@@ -301,14 +299,14 @@ namespace TKR::Problems
               << " design(s), " << runs << " wear runs per design:\n";
     for (unsigned int i = 0; i < n; ++i)
       std::cout << "  " << std::left << std::setw(30) << calibration.fit[i]
-                << std::right << " = " << number(result.x[i], 6) << "   "
-                << number(100 * calibration.confidence_level, 3)
-                << " % interval [" << number(interval.lower[i], 6) << ", "
-                << number(interval.upper[i], 6) << "]\n";
+                << std::right << " = " << format_number(result.x[i], 6) << "   "
+                << format_number(100 * calibration.confidence_level, 3)
+                << " % interval [" << format_number(interval.lower[i], 6)
+                << ", " << format_number(interval.upper[i], 6) << "]\n";
     std::cout << "  (interval: " << interval.from << ")\n"
-              << "  rms residual " << number(rms, 4)
+              << "  rms residual " << format_number(rms, 4)
               << " mg; the last run (at the fitted values) gives the masses "
-              << "the fit predicted within " << number(100 * mismatch, 3)
+              << "the fit predicted within " << format_number(100 * mismatch, 3)
               << " % of the largest measured mass"
               << (verified ? "" : ": NOT VERIFIED, more than Tolerance") << "\n"
               << "Residuals (measured - computed at the fitted values):\n"
@@ -394,7 +392,7 @@ namespace TKR::Problems
         const std::size_t slash = inner.find('/');
         entries << "  subsection " << inner.substr(0, slash) << "\n    set "
                 << inner.substr(slash + 1) << " = "
-                << number(at.coefficient, 12) << "\n  end\n";
+                << format_number(at.coefficient, 12) << "\n  end\n";
       }
     if (at.fitted_run_in)
       {
@@ -402,12 +400,12 @@ namespace TKR::Problems
         write_atomically(directory + "/calibrated-run-in.csv",
                          "# The run-in fitted by tkr-wear (Problem = "
                          "calibration): factor " +
-                           number(at.run_in_factor, 12) +
+                           format_number(at.run_in_factor, 12) +
                            " at 0 cycles, falling linearly to 1 at " +
-                           number(at.run_in_length, 12) +
+                           format_number(at.run_in_length, 12) +
                            " cycles.\ncycles,factor\n0," +
-                           number(at.run_in_factor, 12) + "\n" +
-                           number(at.run_in_length, 12) + ",1\n");
+                           format_number(at.run_in_factor, 12) + "\n" +
+                           format_number(at.run_in_length, 12) + ",1\n");
       }
     entries << "end\n";
     write_atomically(directory + "/calibrated-entries.prm", entries.str());

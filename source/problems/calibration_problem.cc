@@ -36,13 +36,6 @@ namespace TKR::Problems
       {"archard_cs", "Wear/Archard cs/Table scale"},
       {"area", "Wear/Area/Table scale"}};
 
-    std::string
-    number(const double value, const unsigned int digits = 10)
-    {
-      std::ostringstream text;
-      text << std::setprecision(digits) << value;
-      return text.str();
-    }
 
     /** The measured points of one file (data/measured/README.md). */
     struct Measured
@@ -258,11 +251,13 @@ namespace TKR::Problems
                                        "length") +
         " needs weighings during the run-in (after 0 and before "
         "Calibration/Run-in length = " +
-        number(calibration.run_in_length) + " cycles); there are none");
+        format_number(calibration.run_in_length, 10) +
+        " cycles); there are none");
     if (length && after_run_in.empty())
       missing.push_back("fitting the run-in's length needs weighings after "
                         "it (from " +
-                        number(calibration.run_in_length) + " cycles on)");
+                        format_number(calibration.run_in_length, 10) +
+                        " cycles on)");
     std::string list, fit;
     for (const std::string &item : missing)
       list += (list.empty() ? "" : "; ") + item;
@@ -320,27 +315,28 @@ namespace TKR::Problems
                                       design.name;
         Output::create_directory(directory, mpi_communicator);
         std::map<std::string, std::string> entries = {
-          {"Wear/Cycles", number(design.end_cycles)},
+          {"Wear/Cycles", format_number(design.end_cycles, 10)},
           {"Output/Directory", directory},
           {"Output/Plots", "false"},
           {"Output/VTU interval", "0"}};
         std::string described;
         if (at.coefficient > 0)
           {
-            entries[rate_entry] = number(at.coefficient, 12);
-            described += rate_entry + " = " + number(at.coefficient, 6);
+            entries[rate_entry] = format_number(at.coefficient, 12);
+            described += rate_entry + " = " + format_number(at.coefficient, 6);
           }
         if (at.fitted_run_in)
           {
             entries["Wear/Run-in file"] = directory + "/run-in.csv";
             described += std::string(described.empty() ? "" : ", ") +
-                         "run-in " + number(at.run_in_factor, 6) + " to 1 at " +
-                         number(at.run_in_length, 6) + " cycles";
+                         "run-in " + format_number(at.run_in_factor, 6) +
+                         " to 1 at " + format_number(at.run_in_length, 6) +
+                         " cycles";
             if (is_root)
               write_atomically(directory + "/run-in.csv",
                                "cycles,factor\n0," +
-                                 number(at.run_in_factor, 12) + "\n" +
-                                 number(at.run_in_length, 12) + ",1\n");
+                                 format_number(at.run_in_factor, 12) + "\n" +
+                                 format_number(at.run_in_length, 12) + ",1\n");
           }
         if (is_root)
           {
@@ -369,11 +365,11 @@ namespace TKR::Problems
           }
         curves.emplace_back(tau, mass);
         if (is_root)
-          std::cout << "  " << number(result.history.back().mass, 6)
-                    << " mg after " << number(result.cycles, 6) << " cycles, "
-                    << result.blocks << " blocks, " << std::setprecision(3)
-                    << std::fixed << MPI_Wtime() - start << " s"
-                    << std::defaultfloat << std::endl;
+          std::cout << "  " << format_number(result.history.back().mass, 6)
+                    << " mg after " << format_number(result.cycles, 6)
+                    << " cycles, " << result.blocks << " blocks, "
+                    << std::setprecision(3) << std::fixed << MPI_Wtime() - start
+                    << " s" << std::defaultfloat << std::endl;
       }
     return curves;
   }
