@@ -46,6 +46,7 @@ import csv
 import json
 import math
 import os
+import re
 import sys
 
 # --------------------------------------------------------------------------
@@ -89,6 +90,18 @@ SUMMARY_KEYS = {
     "lateral_max_wear_depth_mm": ("number", (WEAR,)),
     "lateral_wear_area_percent": ("number", (WEAR,)),
     "lateral_mean_cross_shear": ("number", (WEAR,)),
+    # an activity mix (Gait/Activities): per activity, NAME its name
+    # (schema_name())
+    "activity_NAME_share": ("number", (WEAR,)),
+    "activity_NAME_mass_loss_mg": ("number", (WEAR,)),
+    "activity_NAME_volume_loss_mm3": ("number", (WEAR,)),
+    "activity_NAME_max_wear_depth_mm": ("number", (WEAR,)),
+    "activity_NAME_medial_mass_loss_mg": ("number", (WEAR,)),
+    "activity_NAME_lateral_mass_loss_mg": ("number", (WEAR,)),
+    "activity_NAME_ap_position_range_mm": ("number", (WEAR,)),
+    "activity_NAME_ie_rotation_range_deg": ("number", (WEAR,)),
+    "activity_NAME_max_ap_reaction_N": ("number", (WEAR,)),
+    "activity_NAME_max_ie_reaction_Nm": ("number", (WEAR,)),
     "ap_position_range_mm": ("number", (WEAR,)),
     "ie_rotation_range_deg": ("number", (WEAR,)),
     "max_ap_reaction_N": ("number", (WEAR,)),
@@ -159,6 +172,11 @@ WEAR_HISTORY_COLUMNS = (
     "lateral_max_depth_mm",
     "lateral_wear_area_percent",
     "lateral_mean_cross_shear",
+    "NAME_volume_mm3",
+    "NAME_mass_mg",
+    "NAME_max_depth_mm",
+    "NAME_medial_volume_mm3",
+    "NAME_lateral_volume_mm3",
     "wall_time_s",
 )
 
@@ -253,6 +271,36 @@ CSV_FILES = {
 }
 
 
+# The placeholder of an activity's name in the keys and columns of an
+# activity mix (activity_NAME_mass_loss_mg, NAME_mass_mg).
+ACTIVITY_NAME = "NAME"
+
+
+def schema_name(name, known):
+    """@p name as the schema @p known (keys or columns) names it: a fixed
+    name as it is; an activity mix's (activity_walking_mass_loss_mg,
+    stair_ascent_mass_loss_mg) as its template with NAME for the activity
+    (the template with the longest fixed end that fits); else @p name."""
+    if name in known:
+        return name
+    templates = sorted(
+        (t for t in known if ACTIVITY_NAME in t),
+        key=lambda t: len(t.split(ACTIVITY_NAME)[1]),
+        reverse=True,
+    )
+    for template in templates:
+        prefix, suffix = template.split(ACTIVITY_NAME)
+        middle = name[len(prefix) : len(name) - len(suffix)]
+        if (
+            len(name) > len(prefix) + len(suffix)
+            and name.startswith(prefix)
+            and name.endswith(suffix)
+            and re.fullmatch(r"[a-z0-9_]+", middle)
+        ):
+            return template
+    return name
+
+
 class ResultError(Exception):
     """A result file that cannot be read as documented: the message is one
     line, `FILE[:LINE]: what`."""
@@ -337,7 +385,7 @@ class Result:
         return self.data.items()
 
     def __getitem__(self, key):
-        kind = self.keys.get(key)
+        kind = self.keys.get(schema_name(key, self.keys))
         if kind is None:
             raise ResultError(
                 f"{self.path}: {key} is not a documented key of "
@@ -353,7 +401,7 @@ class Result:
         return value
 
     def get(self, key, default=None):
-        if key in self.keys and key not in self.data:
+        if schema_name(key, self.keys) in self.keys and key not in self.data:
             return default
         return self[key]
 
@@ -386,10 +434,10 @@ def check_summary_data(data, path="summary.json"):
     problems = []
     problem = data.get("problem")
     for key, value in data.items():
-        if key not in SUMMARY_KEYS:
+        if schema_name(key, SUMMARY_KEYS) not in SUMMARY_KEYS:
             problems.append(f"{path}: key {key} is not documented in doc/output.md")
             continue
-        kind, writers = SUMMARY_KEYS[key]
+        kind, writers = SUMMARY_KEYS[schema_name(key, SUMMARY_KEYS)]
         if not is_type(value, kind):
             problems.append(f"{path}: {key} is {json.dumps(value)}, not of type {kind}")
         if problem in PROBLEMS and problem not in writers:
@@ -543,7 +591,11 @@ def check_header(header, name, path):
             return [f"{path}: a study.csv starts with case and has a status column"]
         header = ["case"] + header[header.index("status") :]
     columns = CSV_FILES[name]
-    problems = [f"{path}: column {c} is not documented in doc/output.md" for c in header if c not in columns]
+    problems = [
+        f"{path}: column {c} is not documented in doc/output.md"
+        for c in header
+        if schema_name(c, columns) not in columns
+    ]
     if name == "steps.csv":
         protocols = [p for p in PROTOCOLS if all(p in STEPS_COLUMNS.get(c, PROTOCOLS) for c in header)]
         if not protocols and not problems:
@@ -561,6 +613,11 @@ def file_kind(path):
     name = os.path.basename(path)
     for known in list(JSON_FILES) + list(CSV_FILES):
         if name == known or name.endswith("." + known):
+            return known
+    # an activity's of a mix: steps_NAME.csv, wear_map_NAME.csv
+    for known in ("steps.csv", "wear_map.csv"):
+        stem = known[: -len(".csv")]
+        if re.fullmatch(re.escape(stem) + r"_[a-z0-9_]+\.csv", name) and name != "wear_map_faces.csv":
             return known
     return None
 

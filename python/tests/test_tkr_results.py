@@ -108,6 +108,31 @@ def test_check_summary(tmp_path):
     ]
 
 
+def test_activity_mix_names(tmp_path):
+    keys = tkr_results.SUMMARY_KEYS
+    assert tkr_results.schema_name("mass_loss_mg", keys) == "mass_loss_mg"
+    assert tkr_results.schema_name("activity_stair_ascent_mass_loss_mg", keys) == "activity_NAME_mass_loss_mg"
+    # the longest fixed end wins: NAME is walking, not walking_lateral
+    assert (
+        tkr_results.schema_name("activity_walking_lateral_mass_loss_mg", keys)
+        == "activity_NAME_lateral_mass_loss_mg"
+    )
+    assert tkr_results.schema_name("activity__mass_loss_mg", keys) == "activity__mass_loss_mg"
+    assert tkr_results.schema_name("activity_Walk_mass_loss_mg", keys) == "activity_Walk_mass_loss_mg"
+    summary = dict(WEAR_SUMMARY, activity_walking_share=0.9, activity_walking_mass_loss_mg=1.5)
+    assert tkr_results.check_summary_data(summary) == []
+    assert tkr_results.check_summary_data(dict(summary, activity_walking_mass=1.0)) == [
+        "summary.json: key activity_walking_mass is not documented in doc/output.md"
+    ]
+    path = write_json(tmp_path / "summary.json", summary)
+    assert tkr_results.read_summary(path)["activity_walking_mass_loss_mg"] == 1.5
+    history = "block,cycles,medial_volume_mm3,walking_volume_mm3,stair_ascent_medial_volume_mm3\n"
+    assert tkr_results.check_file(write(tmp_path / "wear_history.csv", history)) == []
+    assert tkr_results.file_kind("steps_stair_ascent.csv") == "steps.csv"
+    assert tkr_results.file_kind("wear_map_walking.csv") == "wear_map.csv"
+    assert tkr_results.file_kind("wear_map_faces.csv") == "wear_map_faces.csv"
+
+
 def test_read_table(tmp_path):
     path = write(tmp_path / "wear_history.csv", "# comment\n cycles , mass_mg,extra\n\n0,0,a\n5e6, 11.5,b\n")
     table = tkr_results.read_table(path, ("cycles", "mass_mg"), ("max_depth_mm",))

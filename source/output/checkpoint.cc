@@ -32,7 +32,13 @@ namespace TKR::Output
     // 5: the steps' poses one block before (the extrapolated warm start);
     // formats 3 and 4 are read without them (the first block after the
     // resume then starts from the last poses).
-    constexpr unsigned int format_version = 5, oldest_format = 3;
+    // 6: the activities of a mix; formats 3 to 5 are read without (no mix).
+    constexpr unsigned int format_version = 6, oldest_format = 3;
+    /** The first format with the activities of a mix. */
+    constexpr unsigned int activities_format = 6;
+    /** Columns of an activity in the activity_history dataset
+     *  (Wear::ActivityResult). */
+    constexpr unsigned int n_activity_columns = 5;
     /** The first format with pose_fallbacks. */
     constexpr unsigned int pose_fallbacks_format = 4;
     /** The first format with the previous poses of the steps. */
@@ -250,7 +256,8 @@ namespace TKR::Output
                           h[7],
                           h[8],
                           {}, // the sides: below
-                          {}});
+                          {},
+                          {}}); // the activities: read_activities()
         }
       const auto sides = read_dataset<double>(file, "sides");
       for (unsigned int i = 0;
@@ -295,6 +302,86 @@ namespace TKR::Output
                           values[i + 3] != 0.,
                           values[i + 4]});
       return failed;
+    }
+
+    /** Wear::ActivityResult's values in the order of the datasets. */
+    std::vector<double>
+    activity_values(const Wear::ActivityResult &a)
+    {
+      return {a.volume, a.mass, a.max_depth, a.medial_volume, a.lateral_volume};
+    }
+
+    Wear::ActivityResult
+    activity_result(const double *v)
+    {
+      return {v[0], v[1], v[2], v[3], v[4]};
+    }
+
+    /** The activities of a mix: their depth, volumes and history. */
+    void
+    write_activities(HDF5::File &file, const Wear::WearRunState &state)
+    {
+      const hsize_t n = state.activity_volume.size();
+      file.set_attribute("n_activities", static_cast<unsigned int>(n));
+      if (n == 0)
+        return;
+      std::vector<double> depth, volume, history;
+      for (unsigned int a = 0; a < n; ++a)
+        {
+          depth.insert(depth.end(),
+                       state.activity_depth[a].begin(),
+                       state.activity_depth[a].end());
+          const auto v = activity_values(state.activity_volume[a]);
+          volume.insert(volume.end(), v.begin(), v.end());
+        }
+      for (const auto &row : state.history)
+        for (unsigned int a = 0; a < n; ++a)
+          {
+            const auto v = activity_values(a < row.activities.size() ?
+                                             row.activities[a] :
+                                             Wear::ActivityResult());
+            history.insert(history.end(), v.begin(), v.end());
+          }
+      write_dataset(file, "activity_depth", depth, {n, state.depth.size()});
+      write_dataset(file, "activity_volume", volume, {n, n_activity_columns});
+      write_dataset(file,
+                    "activity_history",
+                    history,
+                    {state.history.size(), n * n_activity_columns});
+    }
+
+    /** The activities of a mix (after read_history()). */
+    void
+    read_activities(const HDF5::File &file, Wear::WearRunState &state)
+    {
+      if (file.get_attribute<unsigned int>("format_version") <
+          activities_format)
+        return;
+      const unsigned int n = file.get_attribute<unsigned int>("n_activities");
+      if (n == 0)
+        return;
+      const auto depth   = read_dataset<double>(file, "activity_depth");
+      const auto volume  = read_dataset<double>(file, "activity_volume");
+      const auto history = read_dataset<double>(file, "activity_history");
+      const unsigned int n_vertices = state.depth.size();
+      AssertThrow(depth.size() == n * n_vertices &&
+                    volume.size() == n * n_activity_columns &&
+                    history.size() ==
+                      state.history.size() * n * n_activity_columns,
+                  ExcInputError("The checkpoint's activity datasets are "
+                                "incomplete."));
+      for (unsigned int a = 0; a < n; ++a)
+        {
+          state.activity_depth.emplace_back(depth.begin() + a * n_vertices,
+                                            depth.begin() +
+                                              (a + 1) * n_vertices);
+          state.activity_volume.push_back(
+            activity_result(&volume[a * n_activity_columns]));
+        }
+      for (unsigned int r = 0; r < state.history.size(); ++r)
+        for (unsigned int a = 0; a < n; ++a)
+          state.history[r].activities.push_back(
+            activity_result(&history[(r * n + a) * n_activity_columns]));
     }
 
     /** The checkpoint was written by this format and these parameters. */
@@ -345,6 +432,7 @@ namespace TKR::Output
             write_step_starts(file, state.step_starts);
             write_history(file, state.history);
             write_failed_steps(file, state.failed_steps);
+            write_activities(file, state);
           });
       },
       mpi_communicator);
@@ -413,6 +501,7 @@ namespace TKR::Output
               state.step_starts  = read_step_starts(file, n_steps);
               state.history      = read_history(file);
               state.failed_steps = read_failed_steps(file);
+              read_activities(file, state);
             }
           catch (const ExcInputError &exc)
             {

@@ -170,7 +170,8 @@ namespace TKR::Output
       if (((starts_with(entry, "Mesh/") && entry != "Mesh/File") ||
            starts_with(entry, "Materials/") ||
            (starts_with(entry, "Gait/") && entry != "Gait/Step groups" &&
-            entry != "Gait/Waveform file" && entry != "Gait/Pose solver") ||
+            entry != "Gait/Waveform file" && entry != "Gait/Pose solver" &&
+            entry != "Gait/Activities") ||
            (starts_with(entry, "Wear/") && entry != "Wear/Cycles" &&
             entry != "Wear/Distortion limit" &&
             entry != "Wear/Halve step on distortion" &&
@@ -185,6 +186,16 @@ namespace TKR::Output
     for (const std::string &entry : files)
       if (of_the_run(entry))
         state[entry + " (checksum)"] = checksum(parameters.entries.at(entry));
+    // The mix by its activities' shares and the contents of their files
+    // (not their paths).
+    for (const auto &activity : parameters.mix)
+      {
+        const std::string prefix = "Gait/Activities/" + activity.slug + "/";
+        state[prefix + "Share"]  = format_number(activity.share, 15);
+        state[prefix + "File (checksum)"] = checksum(activity.file);
+        state[prefix + "Waveform file (checksum)"] =
+          checksum(activity.gait.waveform_file);
+      }
     return state;
   }
 

@@ -29,6 +29,7 @@ namespace TKR::Output
     void
     write_history_file(const std::string                    &directory,
                        const std::vector<Wear::BlockResult> &rows,
+                       const std::vector<std::string>       &activities,
                        const bool                            testing);
   } // namespace
 
@@ -61,11 +62,13 @@ namespace TKR::Output
   write_steps_csv(const std::string                   &directory,
                   const std::vector<Gait::StepReport> &reports,
                   const Gait::Protocol                &protocol,
-                  const MPI_Comm                       mpi_communicator)
+                  const MPI_Comm                       mpi_communicator,
+                  const std::string                   &name)
   {
     if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
       return;
-    std::ofstream csv(directory + "/steps.csv");
+    std::ofstream csv(directory + "/steps" + (name.empty() ? "" : "_" + name) +
+                      ".csv");
     csv << "step,percent";
     for (const auto &column : protocol.input_columns())
       csv << ',' << column;
@@ -115,10 +118,11 @@ namespace TKR::Output
   void
   write_wear_history(const std::string                    &directory,
                      const std::vector<Wear::BlockResult> &rows,
+                     const std::vector<std::string>       &activities,
                      const bool                            testing,
                      const MPI_Comm                        mpi_communicator)
   {
-    on_root([&]() { write_history_file(directory, rows, testing); },
+    on_root([&]() { write_history_file(directory, rows, activities, testing); },
             mpi_communicator);
   }
 
@@ -127,6 +131,7 @@ namespace TKR::Output
     void
     write_history_file(const std::string                    &directory,
                        const std::vector<Wear::BlockResult> &rows,
+                       const std::vector<std::string>       &activities,
                        const bool                            testing)
     {
       std::ostringstream csv;
@@ -136,6 +141,10 @@ namespace TKR::Output
         for (const std::string side : {"medial", "lateral"})
           csv << ',' << side << "_volume_mm3," << side << "_max_depth_mm,"
               << side << "_wear_area_percent," << side << "_mean_cross_shear";
+        for (const std::string &a : activities)
+          csv << ',' << a << "_volume_mm3," << a << "_mass_mg," << a
+              << "_max_depth_mm," << a << "_medial_volume_mm3," << a
+              << "_lateral_volume_mm3";
         csv << (testing ? "" : ",wall_time_s") << '\n' << std::setprecision(10);
         for (const auto &r : rows)
           {
@@ -145,6 +154,14 @@ namespace TKR::Output
             for (const auto &s : {r.medial, r.lateral})
               csv << ',' << s.volume << ',' << s.max_depth << ','
                   << s.wear_area_percent << ',' << s.mean_cross_shear;
+            for (unsigned int a = 0; a < activities.size(); ++a)
+              {
+                const Wear::ActivityResult x = a < r.activities.size() ?
+                                                 r.activities[a] :
+                                                 Wear::ActivityResult();
+                csv << ',' << x.volume << ',' << x.mass << ',' << x.max_depth
+                    << ',' << x.medial_volume << ',' << x.lateral_volume;
+              }
             if (!testing)
               csv << ',' << r.wall_time;
             csv << '\n';
@@ -273,14 +290,18 @@ namespace TKR::Output
                  const Mortar::ContactSurface &surface,
                  const Geometry::WornGeometry &geometry,
                  const std::vector<double>    &cross_shear,
-                 const MPI_Comm                mpi_communicator)
+                 const MPI_Comm                mpi_communicator,
+                 const std::string            &name,
+                 const std::vector<double>    *activity_depth)
   {
     if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
       return;
-    const auto   &x       = geometry.vertex_positions();
-    const auto   &depth   = geometry.wear_depth();
+    const auto &x = geometry.vertex_positions();
+    const auto &depth =
+      activity_depth ? *activity_depth : geometry.wear_depth();
     const bool    with_cs = cross_shear.size() == surface.nodes().size();
-    std::ofstream nodes(directory + "/wear_map.csv");
+    std::ofstream nodes(directory + "/wear_map" +
+                        (name.empty() ? "" : "_" + name) + ".csv");
     nodes << "x,y,z,depth_mm" << (with_cs ? ",cross_shear" : "") << '\n'
           << std::setprecision(10);
     for (unsigned int j = 0; j < surface.nodes().size(); ++j)
@@ -291,6 +312,8 @@ namespace TKR::Output
           nodes << ',' << cross_shear[j];
         nodes << '\n';
       }
+    if (!name.empty())
+      return;
     // deal.II numbers a face's vertices lexicographically: 0, 1, 3, 2 go
     // around it.
     std::ofstream faces(directory + "/wear_map_faces.csv");

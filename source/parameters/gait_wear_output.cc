@@ -167,6 +167,19 @@ namespace TKR::Parameters
         "Factors on waveform channels, by column name, e.g. "
         "\"axial_force_N: 1.1, ap_force_N: 0.9\" (a column the protocol "
         "does not read is refused). Empty: the waveform as tabulated.");
+      prm.declare_entry(
+        "Activities",
+        "",
+        Patterns::Anything(),
+        "An activity mix (Problem = wear, doc/gait.md): NAME: SHARE[: "
+        "FILE.prm] per activity, separated by ';', e.g. \"walking: 0.85; "
+        "stair ascent: 0.1: stair.prm; deep knee bend: 0.05: bend.prm\". "
+        "Each block solves one cycle of every activity on the same worn "
+        "geometry and wears the insert by their share-weighted sum. An "
+        "activity's FILE sets only entries of subsection Gait (its waveform, "
+        "protocol, steps, ...), read on top of this file's; without FILE the "
+        "activity is this file's gait. The shares must add up to 1. Empty: "
+        "no mix, one activity.");
     }
   } // namespace
 
@@ -212,6 +225,7 @@ namespace TKR::Parameters
           channel_scales[parts.at(0)] =
             Utilities::string_to_double(parts.at(1));
         }
+      activities = prm.get("Activities");
     }
     prm.leave_subsection();
   }

@@ -57,6 +57,25 @@ namespace TKR::Parameters::internal
     find_setters();
   }
 
+  ParameterText::ParameterText(
+    const std::vector<std::string>                         &filenames,
+    const std::vector<std::pair<std::string, std::string>> &moved)
+  {
+    for (const std::string &filename : filenames)
+      append(filename, 0);
+    rename_moved(moved);
+    find_setters();
+  }
+
+  std::vector<std::string>
+  ParameterText::entries_set() const
+  {
+    std::vector<std::string> entries;
+    for (const auto &[entry, line] : setter)
+      entries.push_back(entry);
+    return entries;
+  }
+
   void
   ParameterText::append(const std::string &filename, const unsigned int depth)
   {

@@ -9,6 +9,8 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <tkr/parameters/parameters.h>
+
 #include <map>
 #include <string>
 #include <utility>
@@ -37,6 +39,18 @@ namespace TKR::Parameters::internal
     ParameterText(
       const std::string                                      &filename,
       const std::vector<std::pair<std::string, std::string>> &moved = {});
+
+    /**
+     * The files @p filenames one after the other (e.g. a parameter file and
+     * an activity's file on top of it), as the constructor above does.
+     */
+    ParameterText(
+      const std::vector<std::string>                         &filenames,
+      const std::vector<std::pair<std::string, std::string>> &moved = {});
+
+    /** The paths of the entries a `set` line of the text sets. */
+    std::vector<std::string>
+    entries_set() const;
 
     /** "FILE:LINE sets OLD, which is now NEW ..." per moved entry read. */
     const std::vector<std::string> &
@@ -136,6 +150,27 @@ namespace TKR::Parameters::internal
    */
   std::string
   resolve_path(const std::string &path, const std::string &directory);
+
+  /**
+   * Parse @p text (read from @p filename) into @p prm, every relative path
+   * of a file entry taken from the directory of the file that set it;
+   * ExcInputError naming the file and line of a bad line.
+   */
+  void
+  parse_text(dealii::ParameterHandler &prm,
+             const ParameterText      &text,
+             const std::string        &filename);
+
+  /**
+   * The activity mix of @p gait (its `Activities`, paths resolved) of the
+   * parameter file @p filename: each activity's gait is @p filename's
+   * with the activity's file read on top. Empty without a mix.
+   * ExcInputError for a malformed list, shares that do not add up to 1,
+   * an activity file that sets entries outside `Gait` (or `Activities`,
+   * `Step groups`, `Medial side`), or a missing waveform file.
+   */
+  std::vector<Activity>
+  read_mix(const std::string &filename, const Gait &gait);
 } // namespace TKR::Parameters::internal
 
 #endif

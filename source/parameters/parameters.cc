@@ -369,6 +369,52 @@ namespace TKR::Parameters
     prm.leave_subsection();
   }
 
+  namespace internal
+  {
+    void
+    parse_text(ParameterHandler    &prm,
+               const ParameterText &text,
+               const std::string   &filename)
+    {
+      try
+        {
+          std::istringstream in(text.text());
+          prm.parse_input(in, filename);
+        }
+      catch (const ExceptionBase &exc)
+        {
+          AssertThrow(false,
+                      ExcInputError(
+                        text.locate(exception_message(exc)) +
+                        "\n(tkr-wear --print-parameters lists every valid "
+                        "entry with its documentation.)"));
+        }
+      std::vector<std::string> files = {"Mesh/File",
+                                        "Gait/Waveform file",
+                                        "Wear/Run-in file",
+                                        "Output/Measured mass loss file",
+                                        "Study/Base parameter file",
+                                        "Study/Cases file",
+                                        "Study/Mesh generator"};
+      for (const std::string &entry : model_file_entries())
+        files.push_back(entry);
+      for (const std::string &entry : files)
+        set_entry(prm,
+                  entry,
+                  resolve_path(get_entry(prm, entry),
+                               text.directory_of(entry)));
+      set_entry(
+        prm,
+        "Calibration/Designs",
+        Calibration::resolve_designs(get_entry(prm, "Calibration/Designs"),
+                                     text.directory_of("Calibration/Designs")));
+      set_entry(prm,
+                "Gait/Activities",
+                Activity::resolve_files(get_entry(prm, "Gait/Activities"),
+                                        text.directory_of("Gait/Activities")));
+    }
+  } // namespace internal
+
   // ParameterHandler reads the text with the includes expanded
   // (internal::ParameterText) and reports a bad line with an exception
   // whose message names the line ("Line <7> of file <x.prm>: ..."). We
@@ -376,50 +422,19 @@ namespace TKR::Parameters
   // deal.II's stack-trace header, and add the hint where to find the valid
   // entries. Relative paths are taken from the directory of the file that
   // sets them (then the working directory, then the sources' bundled
-  // data).
+  // data). An activity mix reads each activity's file on top of this one.
   AllParameters
   read_parameters(const std::string &filename)
   {
     const internal::ParameterText text(filename, moved_entries());
     ParameterHandler              prm;
     AllParameters::declare_parameters(prm);
-    try
-      {
-        std::istringstream in(text.text());
-        prm.parse_input(in, filename);
-      }
-    catch (const ExceptionBase &exc)
-      {
-        AssertThrow(false,
-                    ExcInputError(
-                      text.locate(exception_message(exc)) +
-                      "\n(tkr-wear --print-parameters lists every valid "
-                      "entry with its documentation.)"));
-      }
-    std::vector<std::string> files = {"Mesh/File",
-                                      "Gait/Waveform file",
-                                      "Wear/Run-in file",
-                                      "Output/Measured mass loss file",
-                                      "Study/Base parameter file",
-                                      "Study/Cases file",
-                                      "Study/Mesh generator"};
-    for (const std::string &entry : model_file_entries())
-      files.push_back(entry);
-    for (const std::string &entry : files)
-      internal::set_entry(prm,
-                          entry,
-                          internal::resolve_path(internal::get_entry(prm,
-                                                                     entry),
-                                                 text.directory_of(entry)));
-    internal::set_entry(prm,
-                        "Calibration/Designs",
-                        Calibration::resolve_designs(
-                          internal::get_entry(prm, "Calibration/Designs"),
-                          text.directory_of("Calibration/Designs")));
+    internal::parse_text(prm, text, filename);
     AllParameters parameters;
     try
       {
         parameters.parse_parameters(prm);
+        parameters.mix = internal::read_mix(filename, parameters.gait);
       }
     catch (const ExcInputError &exc)
       {

@@ -20,18 +20,25 @@ namespace TKR::Problems
 {
   using namespace dealii;
 
-  GaitCycle::GaitCycle(TwoBodyModel &model, const StepGroups &groups)
+  GaitCycle::GaitCycle(TwoBodyModel           &model,
+                       const StepGroups       &groups,
+                       const Parameters::Gait &gait,
+                       const std::string      &name)
     : model(model)
     , groups(groups)
+    , gait(gait)
+    , name(name)
   {}
 
   void
-  GaitCycle::setup()
+  GaitCycle::setup(const bool report_model)
   {
     const auto &parameters = model.parameters();
     const auto &pcout      = model.pcout();
-    protocol = Gait::create_protocol(parameters.gait, model.triangulation());
+    protocol               = Gait::create_protocol(gait, model.triangulation());
     const std::string &file = protocol->waveform().file();
+    if (!name.empty())
+      pcout << "Activity " << name << ": ";
     pcout << "Waveform <"
           << (parameters.output.testing ? file.substr(file.rfind('/') + 1) :
                                           file)
@@ -40,9 +47,10 @@ namespace TKR::Problems
           << protocol->setup_text() << std::endl;
 
     const auto &dof_handler = model.elasticity().get_dof_handler();
-    pcout << "Degrees of freedom: " << dof_handler.n_dofs()
-          << ", MPI ranks: " << Utilities::MPI::n_mpi_processes(model.world())
-          << " in " << groups.n_groups << " step group(s)" << std::endl;
+    if (report_model)
+      pcout << "Degrees of freedom: " << dof_handler.n_dofs()
+            << ", MPI ranks: " << Utilities::MPI::n_mpi_processes(model.world())
+            << " in " << groups.n_groups << " step group(s)" << std::endl;
     is_femur_vertex =
       Mesh::material_vertices(model.triangulation(), Mesh::MaterialIds::femur);
 
@@ -59,7 +67,7 @@ namespace TKR::Problems
 
     model.setup_contact_surfaces();
 
-    const unsigned int n_steps = parameters.gait.steps_per_cycle;
+    const unsigned int n_steps = gait.steps_per_cycle;
     records.assign(n_steps, Wear::StepRecord());
     reports.assign(n_steps, Gait::StepReport());
     starts.assign(n_steps, Gait::StepStart());
@@ -67,12 +75,13 @@ namespace TKR::Problems
     // The pose is solved with the contact where the protocol names its
     // unknowns and the solver has the columns (doc/gait.md).
     pose_equations = protocol->pose_equations();
-    if (!parameters.gait.coupled_pose || !solver->can_solve_pose())
+    if (!gait.coupled_pose || !solver->can_solve_pose())
       pose_equations.unknowns.clear();
     if (parameters.output.vtu_interval > 0)
       step_series =
         std::make_unique<Output::VtuSeries>(parameters.output.directory,
-                                            "step",
+                                            name.empty() ? "step" :
+                                                           "step_" + name,
                                             groups.communicator,
                                             model.world());
   }

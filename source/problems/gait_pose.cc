@@ -186,7 +186,7 @@ namespace TKR::Problems
         progress.statistics = solver->solve_with_pose(
           system,
           q,
-          parameters.gait.pose_tolerance,
+          gait.pose_tolerance,
           max_pose_iterations,
           parameters.contact_solver.initial_contact_distance,
           progress.state,

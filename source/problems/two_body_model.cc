@@ -74,6 +74,8 @@ namespace TKR::Problems
   void
   TwoBodyModel::setup_contact_surfaces()
   {
+    if (mortar_coupling)
+      return;
     const auto &dof_handler = two_bodies.get_dof_handler();
     // The geometry's worn surface on the elasticity's DoFs: one numbering
     // of the tibia_contact nodes for the coupling and the wear.

@@ -7,6 +7,7 @@
 #include <tkr/output/checkpoint.h>
 #include <tkr/output/wear_output.h>
 #include <tkr/problems/wear_problem.h>
+#include <tkr/wear/activity_mix.h>
 #include <tkr/wear/run_result.h>
 #include <tkr/wear/sliding.h>
 
@@ -22,13 +23,78 @@ namespace TKR::Problems
 {
   using namespace dealii;
 
+  namespace
+  {
+    /** One gait cycle per activity. */
+    std::vector<std::unique_ptr<GaitCycle>>
+    make_cycles(TwoBodyModel                            &model,
+                const StepGroups                        &groups,
+                const std::vector<Parameters::Activity> &activities)
+    {
+      std::vector<std::unique_ptr<GaitCycle>> cycles;
+      for (const auto &activity : activities)
+        cycles.push_back(std::make_unique<GaitCycle>(model,
+                                                     groups,
+                                                     activity.gait,
+                                                     activity.slug));
+      return cycles;
+    }
+
+    /** The shares of @p activities. */
+    std::vector<double>
+    shares(const std::vector<Parameters::Activity> &activities)
+    {
+      std::vector<double> values;
+      for (const auto &activity : activities)
+        values.push_back(activity.share);
+      return values;
+    }
+  } // namespace
+
+  unsigned int
+  WearProblem::n_steps() const
+  {
+    unsigned int n = 0;
+    for (const auto &c : cycles)
+      n += c->n_steps();
+    return n;
+  }
+
+  std::vector<Gait::StepStart>
+  WearProblem::step_starts() const
+  {
+    std::vector<Gait::StepStart> starts;
+    for (const auto &c : cycles)
+      starts.insert(starts.end(),
+                    c->get_step_starts().begin(),
+                    c->get_step_starts().end());
+    return starts;
+  }
+
+  void
+  WearProblem::set_step_starts(const std::vector<Gait::StepStart> &starts)
+  {
+    unsigned int first = 0;
+    for (const auto &c : cycles)
+      {
+        const unsigned int n = c->n_steps();
+        AssertThrow(first + n <= starts.size(), ExcInternalError());
+        c->set_step_starts(
+          std::vector<Gait::StepStart>(starts.begin() + first,
+                                       starts.begin() + first + n));
+        first += n;
+      }
+  }
+
   WearProblem::WearProblem(const Parameters::AllParameters &parameters,
                            const MPI_Comm                   mpi_communicator,
                            const bool                       resume)
     : resume(resume)
     , groups(mpi_communicator, parameters.gait.step_groups)
     , model(parameters, mpi_communicator, groups.communicator)
-    , cycle(model, groups)
+    , activities(parameters.activities())
+    , cycles(make_cycles(model, groups, activities))
+    , cycle(*cycles[0])
     , motion(model.geometry(), groups.communicator, model.timer())
     , law(Wear::create_wear_law(parameters.wear))
     , progress(parameters.output.directory, model.world())
@@ -42,20 +108,32 @@ namespace TKR::Problems
     if (!resume)
       {
         state.cycles_per_block = parameters.wear.cycles_per_extrapolation_step;
+        if (!parameters.mix.empty())
+          {
+            state.activity_depth.assign(
+              activities.size(),
+              std::vector<double>(model.triangulation().n_vertices(), 0.));
+            state.activity_volume.assign(activities.size(), {});
+          }
         state.history.push_back(Wear::BlockResult());
+        state.history.back().activities = activity_results();
         return;
       }
     state = Output::read_checkpoint(directory,
                                     model.triangulation().n_vertices(),
-                                    cycle.n_steps(),
+                                    n_steps(),
                                     parameters,
                                     model.world());
     model.geometry().set_vertex_displacements(state.displacement,
                                               state.stiffness_displacement);
     model.geometry().set_wear_depth(state.depth);
-    cycle.set_step_starts(state.step_starts);
+    AssertThrow(state.activity_volume.size() ==
+                  (parameters.mix.empty() ? 0 : activities.size()),
+                ExcInternalError());
+    set_step_starts(state.step_starts);
     if (state.stiffness_block > 1)
-      cycle.setup_solver();
+      for (auto &c : cycles)
+        c->setup_solver();
     const bool extrapolated =
       !state.step_starts.empty() &&
       std::all_of(state.step_starts.begin(),
@@ -70,29 +148,34 @@ namespace TKR::Problems
                   << std::endl;
   }
 
-  // The wear law over the cycle's sliding gives each tibia_contact node's
-  // depth; the block's statistics come from the step reports.
+  // The wear law over each activity's cycle sliding gives each
+  // tibia_contact node's depth (of a mix: weighted by the shares); the
+  // block's statistics come from the step reports.
   void
   WearProblem::compute_wear()
   {
-    const auto              &reports = cycle.get_reports();
-    const Wear::CycleSliding sliding(cycle.get_records());
-    cycle_wear    = law->cycle_wear(sliding);
+    activity_wear.clear();
+    for (const auto &c : cycles)
+      activity_wear.push_back(
+        law->cycle_wear(Wear::CycleSliding(c->get_records())));
+    cycle_wear    = Wear::mix_cycle_wear(activity_wear, shares(activities));
     peak_pressure = max_contact_area = 0;
-    unsigned int n_newton = 0, n_solves = 0, n_converged = 0;
-    for (const auto &r : reports)
-      {
-        n_newton += r.newton_iterations;
-        n_solves += r.pose_updates + 1;
-        n_converged += r.converged;
-        state.pose_fallbacks += r.pose_fallbacks;
-        peak_pressure    = std::max(peak_pressure, r.max_pressure);
-        max_contact_area = std::max(max_contact_area, r.contact_area);
-      }
+    unsigned int n_newton = 0, n_solves = 0, n_converged = 0, n_reports = 0;
+    for (const auto &c : cycles)
+      for (const auto &r : c->get_reports())
+        {
+          n_newton += r.newton_iterations;
+          n_solves += r.pose_updates + 1;
+          n_converged += r.converged;
+          ++n_reports;
+          state.pose_fallbacks += r.pose_fallbacks;
+          peak_pressure    = std::max(peak_pressure, r.max_pressure);
+          max_contact_area = std::max(max_contact_area, r.contact_area);
+        }
     state.contact_solves += n_solves;
     state.newton_iterations += n_newton;
-    state.steps += reports.size();
-    state.converged    = state.converged && n_converged == reports.size();
+    state.steps += n_reports;
+    state.converged    = state.converged && n_converged == n_reports;
     state.max_pressure = std::max(state.max_pressure, peak_pressure);
     check_load_balance();
     if (state.block == 0)
@@ -104,34 +187,40 @@ namespace TKR::Problems
   void
   WearProblem::check_load_balance()
   {
-    const auto &protocol = cycle.get_protocol();
-    const auto &reports  = cycle.get_reports();
     unbalanced_steps.clear();
-    for (unsigned int s = 0; s < reports.size(); ++s)
+    unsigned int first = 0;
+    std::string  example;
+    for (const auto &c : cycles)
       {
-        const double balance    = protocol.load_balance(reports[s]);
-        const bool   unbalanced = reports[s].converged && !(balance <= 1.);
-        if (unbalanced)
-          unbalanced_steps.push_back(s);
-        if (!reports[s].converged || unbalanced)
-          state.failed_steps.push_back({state.block + 1,
-                                        s,
-                                        reports[s].pose_residual,
-                                        reports[s].contact_converged,
-                                        balance});
+        const auto &protocol = c->get_protocol();
+        const auto &reports  = c->get_reports();
+        for (unsigned int s = 0; s < reports.size(); ++s)
+          {
+            const double balance    = protocol.load_balance(reports[s]);
+            const bool   unbalanced = reports[s].converged && !(balance <= 1.);
+            if (unbalanced && unbalanced_steps.empty())
+              example = "e.g. step " + std::to_string(first + s) + " by " +
+                        format_number(balance, 6) + " times what the " +
+                        "tolerances allow (" + protocol.load_balance_text() +
+                        ")";
+            if (unbalanced)
+              unbalanced_steps.push_back(first + s);
+            if (!reports[s].converged || unbalanced)
+              state.failed_steps.push_back({state.block + 1,
+                                            first + s,
+                                            reports[s].pose_residual,
+                                            reports[s].contact_converged,
+                                            balance});
+          }
+        first += reports.size();
       }
     if (unbalanced_steps.empty())
       return;
     state.converged = false;
     model.pcout() << "Warning: block " << state.block + 1 << ": "
                   << unbalanced_steps.size()
-                  << " converged step(s) fail the load balance ("
-                  << protocol.load_balance_text() << "), e.g. step "
-                  << unbalanced_steps[0] << " by "
-                  << protocol.load_balance(reports[unbalanced_steps[0]])
-                  << " times what the tolerances allow. The run will exit "
-                     "with 1."
-                  << std::endl;
+                  << " converged step(s) fail the load balance, " << example
+                  << ". The run will exit with 1." << std::endl;
   }
 
   // The first cycle (on the unworn insert) is reported in full, per
@@ -144,21 +233,22 @@ namespace TKR::Problems
   {
     const auto  &parameters = model.parameters();
     const auto  &wear       = parameters.wear;
-    const auto  &reports    = cycle.get_reports();
-    const double cycles     = law->effective_cycles(0, wear.cycles);
+    const double n_cycles   = law->effective_cycles(0, wear.cycles);
     const auto   measures =
       Wear::measure_wear(cycle_wear.depth,
                          model.geometry().worn_surface_measures().area,
                          wear.wear_area_threshold,
-                         cycles);
+                         n_cycles);
     const double mass = parameters.materials.tibia.density * measures.volume;
-    unsigned int n_newton = 0, n_solves = 0, n_converged = 0;
-    for (const auto &r : reports)
-      {
-        n_newton += r.newton_iterations;
-        n_solves += r.pose_updates + 1;
-        n_converged += r.converged;
-      }
+    unsigned int n_newton = 0, n_solves = 0, n_converged = 0, n_reports = 0;
+    for (const auto &c : cycles)
+      for (const auto &r : c->get_reports())
+        {
+          n_newton += r.newton_iterations;
+          n_solves += r.pose_updates + 1;
+          n_converged += r.converged;
+          ++n_reports;
+        }
     model.pcout() << "Wear of the first cycle (" << law->description()
                   << "):" << std::endl
                   << "  volume loss:       " << 1e6 * measures.volume
@@ -176,20 +266,47 @@ namespace TKR::Problems
                   << " cycles > " << wear.wear_area_threshold << " mm)"
                   << std::endl
                   << "  linear extrapolation to " << wear.cycles
-                  << " cycles without geometry update: " << mass * cycles
+                  << " cycles without geometry update: " << mass * n_cycles
                   << " mg" << std::endl
-                  << "  steps: " << reports.size()
-                  << ", converged: " << n_converged;
+                  << "  steps: " << n_reports << ", converged: " << n_converged;
     if (!parameters.output.testing)
       model.pcout() << ", contact solves: " << n_solves
                     << ", Newton iterations per step: "
-                    << double(n_newton) / reports.size();
-    model.pcout() << std::endl
-                  << "  load balance ("
-                  << cycle.get_protocol().load_balance_text()
-                  << ") in every converged step: "
+                    << double(n_newton) / n_reports;
+    model.pcout() << std::endl << "  load balance (";
+    for (unsigned int a = 0; a < cycles.size(); ++a)
+      model.pcout() << (a > 0 ? "; " : "")
+                    << cycles[a]->get_protocol().load_balance_text();
+    model.pcout() << ") in every converged step: "
                   << (unbalanced_steps.empty() ? "yes" : "no") << std::endl;
+    report_activities();
     state.first_cycle_mass = mass;
+  }
+
+  // Each activity's share of the mix's first cycle, and what the activity
+  // alone would wear per million cycles.
+  void
+  WearProblem::report_activities() const
+  {
+    if (model.parameters().mix.empty())
+      return;
+    const double density = model.parameters().materials.tibia.density;
+    const auto  &area    = model.geometry().worn_surface_measures().area;
+    for (unsigned int a = 0; a < activities.size(); ++a)
+      {
+        const double alone =
+          1e6 * density *
+          Wear::measure_wear(activity_wear[a].depth, area, 0.).volume;
+        unsigned int n_converged = 0;
+        for (const auto &r : cycles[a]->get_reports())
+          n_converged += r.converged;
+        model.pcout() << "  activity " << activities[a].name << " (share "
+                      << activities[a].share
+                      << "): " << activities[a].share * alone
+                      << " mg per million cycles of the mix (" << alone
+                      << " alone), steps: " << cycles[a]->n_steps()
+                      << ", converged: " << n_converged << std::endl;
+      }
   }
 
   // The law turns the block of n cycles into a number of cycles at the
@@ -241,6 +358,7 @@ namespace TKR::Problems
               (sides.medial()[j] ? state.volume_medial :
                                    state.volume_lateral) +=
                 effective * cycle_wear.depth[j] * measures.area[j];
+            add_activity_wear(effective, measures.area);
             state.cycles += n;
             ++state.block;
             return n;
@@ -259,6 +377,54 @@ namespace TKR::Problems
                       << state.cycles_per_block << " and retrying."
                       << std::endl;
       }
+  }
+
+  // Each activity's share of the block's wear, as the mix's is added.
+  void
+  WearProblem::add_activity_wear(const double               effective,
+                                 const std::vector<double> &area)
+  {
+    const auto &surface = model.geometry().worn_surface().nodes();
+    for (unsigned int a = 0; a < state.activity_volume.size(); ++a)
+      {
+        const double scale = effective * activities[a].share;
+        const auto  &depth = activity_wear[a].depth;
+        auto        &total = state.activity_volume[a];
+        for (unsigned int j = 0; j < surface.size(); ++j)
+          {
+            const double volume = scale * depth[j] * area[j];
+            state.activity_depth[a][surface[j].vertex] += scale * depth[j];
+            total.volume += volume;
+            (sides.medial()[j] ? total.medial_volume : total.lateral_volume) +=
+              volume;
+          }
+      }
+  }
+
+  std::vector<std::string>
+  WearProblem::activity_names() const
+  {
+    std::vector<std::string> names;
+    if (!model.parameters().mix.empty())
+      for (const auto &activity : activities)
+        names.push_back(activity.slug);
+    return names;
+  }
+
+  std::vector<Wear::ActivityResult>
+  WearProblem::activity_results() const
+  {
+    const auto &surface = model.geometry().worn_surface().nodes();
+    std::vector<Wear::ActivityResult> results = state.activity_volume;
+    for (unsigned int a = 0; a < results.size(); ++a)
+      {
+        results[a].mass =
+          model.parameters().materials.tibia.density * results[a].volume;
+        for (const auto &node : surface)
+          results[a].max_depth = std::max(results[a].max_depth,
+                                          state.activity_depth[a][node.vertex]);
+      }
+    return results;
   }
 
   std::string
@@ -313,9 +479,11 @@ namespace TKR::Problems
                              max_contact_area,
                              wall_time,
                              side(true, state.volume_medial),
-                             side(false, state.volume_lateral)});
+                             side(false, state.volume_lateral),
+                             activity_results()});
     Output::write_wear_history(output.directory,
                                state.history,
+                               activity_names(),
                                output.testing,
                                model.world());
     report_progress(block_wall_time);
@@ -371,6 +539,9 @@ namespace TKR::Problems
       {"cross_shear", per_vertex([&](const unsigned int j) {
          return cycle_wear.cross_shear[j].ratio;
        })}};
+    for (unsigned int a = 0; a < state.activity_depth.size(); ++a)
+      fields.emplace_back("wear_depth_mm_" + activities[a].slug,
+                          state.activity_depth[a]);
     for (const auto &[name, values] : cycle_wear.fields)
       fields.emplace_back(name,
                           per_vertex(
@@ -405,7 +576,7 @@ namespace TKR::Problems
       "> again";
     if (state.block > 0)
       {
-        cycle.set_step_starts(starts);
+        set_step_starts(starts);
         write_checkpoint();
         kept = "the checkpoint <" +
                Output::checkpoint_file(model.parameters().output.directory) +
@@ -427,7 +598,7 @@ namespace TKR::Problems
     state.displacement           = model.geometry().vertex_displacements();
     state.stiffness_displacement = model.geometry().vertex_displacements(true);
     state.depth                  = model.geometry().wear_depth();
-    state.step_starts            = cycle.get_step_starts();
+    state.step_starts            = step_starts();
     Output::write_checkpoint(output.directory,
                              state,
                              model.parameters(),
@@ -450,8 +621,18 @@ namespace TKR::Problems
     result.has_cross_shear  = !cycle_wear.cross_shear.empty();
     result.mean_cross_shear = sides.mean_cross_shear(cycle_wear.cross_shear);
     if (result.has_cross_shear)
-      result.protocol_results =
-        cycle.get_protocol().cycle_results(cycle.get_reports());
+      for (unsigned int a = 0; a < cycles.size(); ++a)
+        for (const auto &[name, value] :
+             cycles[a]->get_protocol().cycle_results(cycles[a]->get_reports()))
+          result.protocol_results.emplace_back(parameters.mix.empty() ?
+                                                 name :
+                                                 "activity_" +
+                                                   activities[a].slug + "_" +
+                                                   name,
+                                               value);
+    result.activity_names = activity_names();
+    for (unsigned int a = 0; a < result.activity_names.size(); ++a)
+      result.activity_shares.push_back(activities[a].share);
     result.max_pressure      = state.max_pressure;
     result.steps             = state.steps;
     result.contact_solves    = state.contact_solves;
@@ -476,20 +657,38 @@ namespace TKR::Problems
   {
     const auto &parameters = model.parameters();
     const auto &output     = parameters.output;
-    Output::write_steps_csv(output.directory,
-                            cycle.get_reports(),
-                            cycle.get_protocol(),
-                            model.world());
-    if (output.vtu_interval > 0)
-      cycle.output_steps(cycle_wear);
-    std::vector<double> ratio;
-    for (const auto &cs : cycle_wear.cross_shear)
-      ratio.push_back(cs.ratio);
+    const bool  mix        = !parameters.mix.empty();
+    for (unsigned int a = 0; a < cycles.size(); ++a)
+      {
+        Output::write_steps_csv(output.directory,
+                                cycles[a]->get_reports(),
+                                cycles[a]->get_protocol(),
+                                model.world(),
+                                mix ? activities[a].slug : "");
+        if (output.vtu_interval > 0 && a < activity_wear.size())
+          cycles[a]->output_steps(activity_wear[a]);
+      }
+    const auto ratios = [](const Wear::CycleWear &wear) {
+      std::vector<double> ratio;
+      for (const auto &cs : wear.cross_shear)
+        ratio.push_back(cs.ratio);
+      return ratio;
+    };
     Output::write_wear_map(output.directory,
                            model.geometry().worn_surface(),
                            model.geometry(),
-                           ratio,
+                           ratios(cycle_wear),
                            model.world());
+    for (unsigned int a = 0; mix && a < activities.size(); ++a)
+      Output::write_wear_map(output.directory,
+                             model.geometry().worn_surface(),
+                             model.geometry(),
+                             a < activity_wear.size() ?
+                               ratios(activity_wear[a]) :
+                               std::vector<double>(),
+                             model.world(),
+                             activities[a].slug,
+                             &state.activity_depth[a]);
     Output::write_run_result(result(), model.summary());
     if (output.plots)
       {
@@ -501,6 +700,32 @@ namespace TKR::Problems
                              model.world());
         if (!error.empty())
           model.pcout() << "Warning: no plots: " << error << std::endl;
+      }
+  }
+
+  void
+  WearProblem::solve_cycles(const bool first, const bool last)
+  {
+    // What a checkpoint of the last block done keeps, should a stop
+    // signal end this block's cycles (their steps overwrite them).
+    const std::vector<Gait::StepStart> starts = step_starts();
+    for (unsigned int a = 0; a < cycles.size(); ++a)
+      {
+        GaitCycle &c = *cycles[a];
+        if (first)
+          model.pcout() << (model.parameters().mix.empty() ?
+                              std::string() :
+                              "Activity " + activities[a].name + ", ")
+                        << "Gait cycle, " << c.n_steps()
+                        << " steps:" << std::endl;
+        try
+          {
+            c.solve(first, last, first);
+          }
+        catch (const ExcStopped &exc)
+          {
+            stop(exception_message(exc), starts);
+          }
       }
   }
 
@@ -527,7 +752,8 @@ namespace TKR::Problems
                   "Problem = wear needs Finite element degree = 1."));
     model.make_grid();
     model.distribute_dofs();
-    cycle.setup();
+    for (unsigned int a = 0; a < cycles.size(); ++a)
+      cycles[a]->setup(a == 0);
     motion.setup();
     start();
     model.pcout() << "Extrapolation: " << wear.cycles << " cycles in blocks of "
@@ -548,36 +774,24 @@ namespace TKR::Problems
             state.stiffness_block != block)
           {
             model.geometry().update_stiffness_geometry();
-            cycle.setup_solver();
+            for (auto &c : cycles)
+              c->setup_solver();
             state.stiffness_block = block;
           }
         const bool first = (block == 1);
         const bool last  = state.cycles + state.cycles_per_block >= wear.cycles;
-        if (first)
-          model.pcout() << "Gait cycle, " << cycle.n_steps()
-                        << " steps:" << std::endl;
-        // What a checkpoint of the last block done keeps, should a stop
-        // signal end this block's cycle (its steps overwrite them).
-        const std::vector<Gait::StepStart> starts = cycle.get_step_starts();
-        try
-          {
-            cycle.solve(first, last, first);
-          }
-        catch (const ExcStopped &exc)
-          {
-            stop(exception_message(exc), starts);
-          }
+        solve_cycles(first, last);
         compute_wear();
         extrapolate();
         finish_block(block_timer.wall_time());
       }
+    unsigned int window_misses = 0;
+    for (const auto &c : cycles)
+      window_misses += groups.is_group_root ? c->n_window_misses() : 0u;
     if (parameters.contact_solver.coupling_window > 0 &&
         !parameters.output.testing)
       model.pcout() << "Coupling window: "
-                    << Utilities::MPI::sum(groups.is_group_root ?
-                                             cycle.n_window_misses() :
-                                             0u,
-                                           model.world())
+                    << Utilities::MPI::sum(window_misses, model.world())
                     << " contact solves repeated on the whole search distance"
                     << std::endl;
     output_results();

@@ -32,6 +32,21 @@ namespace TKR::Wear
         values.emplace_back(prefix + "_mean_cross_shear",
                             result.mean_cross_shear);
       }
+    for (unsigned int a = 0;
+         a < activity_names.size() && a < last.activities.size();
+         ++a)
+      {
+        const std::string     prefix = "activity_" + activity_names[a] + "_";
+        const ActivityResult &result = last.activities[a];
+        values.emplace_back(prefix + "share", activity_shares[a]);
+        values.emplace_back(prefix + "mass_loss_mg", result.mass);
+        values.emplace_back(prefix + "volume_loss_mm3", result.volume);
+        values.emplace_back(prefix + "max_wear_depth_mm", result.max_depth);
+        values.emplace_back(prefix + "medial_mass_loss_mg",
+                            density * result.medial_volume);
+        values.emplace_back(prefix + "lateral_mass_loss_mg",
+                            density * result.lateral_volume);
+      }
     values.insert(values.end(),
                   protocol_results.begin(),
                   protocol_results.end());

@@ -83,7 +83,7 @@ namespace
                                  groups.communicator);
     model.make_grid();
     model.distribute_dofs();
-    Problems::GaitCycle cycle(model, groups);
+    Problems::GaitCycle cycle(model, groups, parameters.gait);
     cycle.setup();
     cycle.solve(false, false, true);
     std::cout.rdbuf(screen);

@@ -255,6 +255,11 @@ namespace
                                   text += name + ": " + num(factor);
                                 return text;
                               }},
+                             {"Gait/Activities",
+                              "walking: 1",
+                              [](const P &p) {
+                                return p.gait.activities;
+                              }},
                              {"Study/Base parameter file",
                               source + "/prm/iso14243-1-coarse.prm",
                               [](const P &p) {

@@ -40,24 +40,29 @@ namespace TKR::Output
             const bool              testing);
 
   /**
-   * `directory/steps.csv`: one row per gait step, with the @p protocol's
-   * input and pose columns (written by rank 0).
+   * `directory/steps.csv` (`steps_NAME.csv` for the activity @p name of a
+   * mix): one row per gait step, with the @p protocol's input and pose
+   * columns (written by rank 0).
    */
   void
   write_steps_csv(const std::string                   &directory,
                   const std::vector<Gait::StepReport> &reports,
                   const Gait::Protocol                &protocol,
-                  const MPI_Comm                       mpi_communicator);
+                  const MPI_Comm                       mpi_communicator,
+                  const std::string                   &name = "");
 
   /**
    * `directory/wear_history.csv` with one row per extrapolation block,
-   * numbers with ten significant digits, without the wall time column if
-   * @p testing (written by rank 0). Written into a temporary file that is
-   * then renamed: it is never half written.
+   * numbers with ten significant digits, the columns of each activity of
+   * a mix (NAME_mass_mg, ... for the names @p activities, empty without a
+   * mix), without the wall time column if @p testing (written by rank 0).
+   * Written into a temporary file that is then renamed: it is never half
+   * written.
    */
   void
   write_wear_history(const std::string                    &directory,
                      const std::vector<Wear::BlockResult> &rows,
+                     const std::vector<std::string>       &activities,
                      const bool                            testing,
                      const MPI_Comm                        mpi_communicator);
 
@@ -122,14 +127,18 @@ namespace TKR::Output
    * positions; the cross-shear @p cross_shear of the last cycle, a column
    * only if given for every node) and `wear_map_faces.csv` (its
    * quadrilaterals, node numbers in cyclic order) for scripts/plot-wear, on
-   * rank 0.
+   * rank 0. For the activity @p name of a mix, `wear_map_NAME.csv` with
+   * the activity's accumulated depth @p depth (per vertex) instead of the
+   * geometry's (no faces file: the faces are the same).
    */
   void
   write_wear_map(const std::string            &directory,
                  const Mortar::ContactSurface &surface,
                  const Geometry::WornGeometry &geometry,
                  const std::vector<double>    &cross_shear,
-                 const MPI_Comm                mpi_communicator);
+                 const MPI_Comm                mpi_communicator,
+                 const std::string            &name  = "",
+                 const std::vector<double>    *depth = nullptr);
 
   /**
    * Run scripts/@p script of the sources with @p arguments (each quoted)

@@ -175,6 +175,11 @@ namespace TKR::Parameters
     /** Factors on waveform channels by column name (empty: none). */
     std::map<std::string, double> channel_scales;
     /**
+     * `Activities`: the activity mix as written (paths resolved; empty:
+     * one activity, this subsection's), read into AllParameters::mix.
+     */
+    std::string activities;
+    /**
      * Axial spring (N/mm) on the tibia's displacement relative to its pose:
      * numerical stabilisation that vanishes as the pose iteration converges.
      */
@@ -208,6 +213,30 @@ namespace TKR::Parameters
     declare_parameters(dealii::ParameterHandler &prm);
     void
     parse_parameters(dealii::ParameterHandler &prm);
+  };
+
+  /**
+   * One activity of a mix (`Gait/Activities`, doc/gait.md): a gait with
+   * its share of the cycles.
+   */
+  struct Activity
+  {
+    /** The name as written ("stair ascent") and as a column prefix
+     *  ("stair_ascent"). */
+    std::string name, slug;
+    /** The share of the cycles (the shares of a mix add up to 1). */
+    double share = 1;
+    /** The parameter file of its `Gait` subsection ("": the main file's). */
+    std::string file;
+    /** The main file's `Gait` subsection with the activity file's on top. */
+    Gait gait;
+
+    /**
+     * The `NAME: SHARE[: FILE.prm]` list @p activities with each FILE
+     * taken from @p directory (internal::resolve_path()).
+     */
+    static std::string
+    resolve_files(const std::string &activities, const std::string &directory);
   };
 
   /** `subsection Wear`: the wear law and its extrapolation. */
@@ -465,6 +494,18 @@ namespace TKR::Parameters
     Verification  verification;
     Study         study;
     Calibration   calibration;
+    /**
+     * The activity mix of `Gait/Activities` (empty: none, the run's gait
+     * is `gait`); read by read_parameters().
+     */
+    std::vector<Activity> mix;
+
+    /**
+     * The activities of a wear run: the mix, or without one the single
+     * activity `gait` (name "", share 1).
+     */
+    std::vector<Activity>
+    activities() const;
 
     /** The parameter file these values came from ("" for the defaults). */
     std::string parameter_file;

@@ -40,15 +40,25 @@ namespace TKR::Problems
   class GaitCycle
   {
   public:
-    GaitCycle(TwoBodyModel &model, const StepGroups &groups);
+    /**
+     * The cycle of the gait @p gait (the model's `Gait` subsection, or an
+     * activity's of a mix, Parameters::Activity); @p name names the
+     * activity in the screen report and its step VTU files ("": none).
+     */
+    GaitCycle(TwoBodyModel           &model,
+              const StepGroups       &groups,
+              const Parameters::Gait &gait,
+              const std::string      &name = "");
 
     /**
      * The protocol (with its waveform), the Dirichlet and support
      * constraints, the contact surfaces and the contact solver (set up by
-     * setup_solver()). Call after TwoBodyModel::distribute_dofs().
+     * setup_solver()). Call after TwoBodyModel::distribute_dofs(). With
+     * @p report_model, the degrees of freedom and ranks are printed (the
+     * first activity's cycle of a mix).
      */
     void
-    setup();
+    setup(const bool report_model = true);
 
     /**
      * Set the contact solver up for the stiffness geometry of the model
@@ -261,8 +271,12 @@ namespace TKR::Problems
     void
     gather_steps(const std::vector<unsigned int> &own_steps);
 
-    TwoBodyModel                           &model;
-    const StepGroups                       &groups;
+    TwoBodyModel     &model;
+    const StepGroups &groups;
+    /** The gait of this cycle (the model's, or an activity's). */
+    const Parameters::Gait gait;
+    /** The activity's slug ("" without a mix). */
+    const std::string                       name;
     std::unique_ptr<Gait::Protocol>         protocol;
     dealii::AffineConstraints<double>       dirichlet;
     std::vector<bool>                       is_femur_vertex;

@@ -69,7 +69,8 @@ namespace TKR::Problems
     /**
      * The contact surfaces, `tibia_contact` (slave) and `femur_contact`
      * (master), and their mortar coupling (not yet computed). Call after
-     * distribute_dofs().
+     * distribute_dofs(); a second call keeps them (every gait cycle of an
+     * activity mix shares them, GaitCycle::setup()).
      */
     void
     setup_contact_surfaces();

@@ -65,7 +65,8 @@ namespace TKR::Problems
     Wear::RunResult
     result() const;
 
-    /** Wear depth per tibia_contact node of the last block's cycle (mm). */
+    /** Wear depth per tibia_contact node of the last block's cycle (mm; of
+     *  a mix, the share-weighted sum of its activities'). */
     const std::vector<double> &
     get_wear_depth() const
     {
@@ -76,6 +77,41 @@ namespace TKR::Problems
     /** A fresh start (block 0) or the state of the checkpoint. */
     void
     start();
+
+    /** Steps of one cycle of every activity. */
+    unsigned int
+    n_steps() const;
+
+    /** Every activity's step starts, one activity after the other. */
+    std::vector<Gait::StepStart>
+    step_starts() const;
+
+    /** Start the activities' cycles from @p starts (as step_starts()). */
+    void
+    set_step_starts(const std::vector<Gait::StepStart> &starts);
+
+    /**
+     * Solve one cycle of every activity on the current geometry; a stop
+     * signal writes the checkpoint of the last block (stop()).
+     */
+    void
+    solve_cycles(const bool first, const bool last);
+
+    /** The first-cycle report's lines of each activity of a mix. */
+    void
+    report_activities() const;
+
+    /** Add the block's wear of each activity of a mix to its own state. */
+    void
+    add_activity_wear(const double effective, const std::vector<double> &area);
+
+    /** The slugs of the activities of a mix (empty without one). */
+    std::vector<std::string>
+    activity_names() const;
+
+    /** The row's results of each activity of a mix. */
+    std::vector<Wear::ActivityResult>
+    activity_results() const;
 
     /**
      * The wear of the cycle just solved (the wear law on the cycle's
@@ -145,15 +181,21 @@ namespace TKR::Problems
     void
     output_results();
 
-    const bool                     resume;
-    const StepGroups               groups;
-    TwoBodyModel                   model;
-    GaitCycle                      cycle;
-    Geometry::MeshMotion           motion;
-    std::unique_ptr<Wear::WearLaw> law;
-    Wear::WearRunState             state;
-    /** The wear of the last block's cycle. */
+    const bool       resume;
+    const StepGroups groups;
+    TwoBodyModel     model;
+    /** The activities: the mix, or the run's gait alone. */
+    const std::vector<Parameters::Activity> activities;
+    /** One gait cycle per activity; cycle is the first. */
+    std::vector<std::unique_ptr<GaitCycle>> cycles;
+    GaitCycle                              &cycle;
+    Geometry::MeshMotion                    motion;
+    std::unique_ptr<Wear::WearLaw>          law;
+    Wear::WearRunState                      state;
+    /** The wear of the last block's cycle (of a mix: mixed). */
     Wear::CycleWear cycle_wear;
+    /** Each activity's wear of the last block's cycle. */
+    std::vector<Wear::CycleWear> activity_wear;
     /** The progress lines (screen and progress.log). */
     Output::Progress progress;
     /**

@@ -55,11 +55,18 @@ namespace TKR::Wear
     std::vector<FailedStep> failed_steps;
     /** Every step converged and balanced. */
     bool converged = true;
+    /**
+     * The activities of a mix (empty without one): their slugs and shares,
+     * in the order of BlockResult::activities.
+     */
+    std::vector<std::string> activity_names;
+    std::vector<double>      activity_shares;
 
     /**
      * The scalar results, named as in summary.json and in the order of
-     * that file (doc/output.md): the run's end, each side's, the solver's
-     * counts, the first cycle's.
+     * that file (doc/output.md): the run's end, each side's, each
+     * activity's of a mix (activity_NAME_...), the solver's counts, the
+     * first cycle's.
      */
     std::vector<std::pair<std::string, double>>
     named_values() const;

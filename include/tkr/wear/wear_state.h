@@ -31,6 +31,21 @@ namespace TKR::Wear
   };
 
   /**
+   * What one activity of a mix (`Gait/Activities`) has worn so far: the
+   * wear of its cycles times its share, summed over the blocks (the
+   * activities' results add up to the run's).
+   */
+  struct ActivityResult
+  {
+    /** Worn volume (mm^3) and mass (mg). */
+    double volume = 0, mass = 0;
+    /** Largest depth of the activity's accumulated wear (mm). */
+    double max_depth = 0;
+    /** Worn volume of the medial and of the lateral side (mm^3). */
+    double medial_volume = 0, lateral_volume = 0;
+  };
+
+  /**
    * The state of the wear run after an extrapolation block: one row of
    * `wear_history.csv`.
    */
@@ -50,6 +65,8 @@ namespace TKR::Wear
     double wall_time = 0;
     /** The medial and the lateral side. */
     SideResult medial, lateral;
+    /** Per activity of a mix (empty without one). */
+    std::vector<ActivityResult> activities;
   };
 
   /** A gait step that did not converge (or failed its load balance). */
@@ -91,10 +108,17 @@ namespace TKR::Wear
     /** Worn volume (mm^3), sums over all blocks, every step converged. */
     double volume = 0;
     /** Worn volume of the medial and of the lateral side (mm^3). */
-    double             volume_medial = 0, volume_lateral = 0;
-    unsigned long long contact_solves    = 0;
-    unsigned long long newton_iterations = 0;
-    unsigned long long steps             = 0;
+    double volume_medial = 0, volume_lateral = 0;
+    /**
+     * Per activity of a mix (empty without one): its accumulated depth of
+     * every vertex (mm) and its volumes (ActivityResult's mass and largest
+     * depth unused).
+     */
+    std::vector<std::vector<double>> activity_depth;
+    std::vector<ActivityResult>      activity_volume;
+    unsigned long long               contact_solves    = 0;
+    unsigned long long               newton_iterations = 0;
+    unsigned long long               steps             = 0;
     /** Pose Newton steps off the Newton direction (StepReport). */
     unsigned long long pose_fallbacks = 0;
     bool               converged      = true;
