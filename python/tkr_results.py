@@ -153,8 +153,9 @@ SUMMARY_RECORDS = {
     "unconverged_steps": ("block", "step", "pose_residual_mm", "contact_converged", "load_balance"),
 }
 
-# wear_history.csv, in the order written (wall_time_s is left out under
-# Output/Testing).
+# wear_history.csv's columns of every run, in the order written (wall_time_s
+# is left out under Output/Testing); an activity mix writes the
+# WEAR_HISTORY_ACTIVITY_COLUMNS of each activity before wall_time_s.
 WEAR_HISTORY_COLUMNS = (
     "block",
     "cycles",
@@ -172,12 +173,14 @@ WEAR_HISTORY_COLUMNS = (
     "lateral_max_depth_mm",
     "lateral_wear_area_percent",
     "lateral_mean_cross_shear",
+    "wall_time_s",
+)
+WEAR_HISTORY_ACTIVITY_COLUMNS = (
     "NAME_volume_mm3",
     "NAME_mass_mg",
     "NAME_max_depth_mm",
     "NAME_medial_volume_mm3",
     "NAME_lateral_volume_mm3",
-    "wall_time_s",
 )
 
 # steps.csv: column -> the gait protocols (Gait/Control) that write it, in
@@ -263,7 +266,7 @@ JSON_FILES = {
     "study.json": STUDY_JSON_KEYS,
 }
 CSV_FILES = {
-    "wear_history.csv": WEAR_HISTORY_COLUMNS,
+    "wear_history.csv": WEAR_HISTORY_COLUMNS[:-1] + WEAR_HISTORY_ACTIVITY_COLUMNS + WEAR_HISTORY_COLUMNS[-1:],
     "steps.csv": tuple(STEPS_COLUMNS),
     "wear_map.csv": WEAR_MAP_COLUMNS,
     "wear_map_faces.csv": WEAR_MAP_FACES_COLUMNS,

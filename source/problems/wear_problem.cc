@@ -40,6 +40,27 @@ namespace TKR::Problems
       return cycles;
     }
 
+    /** What the steps of a block's cycles did, counted. */
+    struct StepCounts
+    {
+      unsigned int steps = 0, converged = 0, solves = 0, newton = 0;
+    };
+
+    StepCounts
+    count_steps(const std::vector<std::unique_ptr<GaitCycle>> &cycles)
+    {
+      StepCounts counts;
+      for (const auto &c : cycles)
+        for (const auto &r : c->get_reports())
+          {
+            ++counts.steps;
+            counts.converged += r.converged;
+            counts.solves += r.pose_updates + 1;
+            counts.newton += r.newton_iterations;
+          }
+      return counts;
+    }
+
     /** The shares of @p activities. */
     std::vector<double>
     shares(const std::vector<Parameters::Activity> &activities)
@@ -160,22 +181,18 @@ namespace TKR::Problems
         law->cycle_wear(Wear::CycleSliding(c->get_records())));
     cycle_wear    = Wear::mix_cycle_wear(activity_wear, shares(activities));
     peak_pressure = max_contact_area = 0;
-    unsigned int n_newton = 0, n_solves = 0, n_converged = 0, n_reports = 0;
     for (const auto &c : cycles)
       for (const auto &r : c->get_reports())
         {
-          n_newton += r.newton_iterations;
-          n_solves += r.pose_updates + 1;
-          n_converged += r.converged;
-          ++n_reports;
           state.pose_fallbacks += r.pose_fallbacks;
           peak_pressure    = std::max(peak_pressure, r.max_pressure);
           max_contact_area = std::max(max_contact_area, r.contact_area);
         }
-    state.contact_solves += n_solves;
-    state.newton_iterations += n_newton;
-    state.steps += n_reports;
-    state.converged    = state.converged && n_converged == n_reports;
+    const StepCounts counts = count_steps(cycles);
+    state.contact_solves += counts.solves;
+    state.newton_iterations += counts.newton;
+    state.steps += counts.steps;
+    state.converged    = state.converged && counts.converged == counts.steps;
     state.max_pressure = std::max(state.max_pressure, peak_pressure);
     check_load_balance();
     if (state.block == 0)
@@ -240,15 +257,7 @@ namespace TKR::Problems
                          wear.wear_area_threshold,
                          n_cycles);
     const double mass = parameters.materials.tibia.density * measures.volume;
-    unsigned int n_newton = 0, n_solves = 0, n_converged = 0, n_reports = 0;
-    for (const auto &c : cycles)
-      for (const auto &r : c->get_reports())
-        {
-          n_newton += r.newton_iterations;
-          n_solves += r.pose_updates + 1;
-          n_converged += r.converged;
-          ++n_reports;
-        }
+    const StepCounts counts = count_steps(cycles);
     model.pcout() << "Wear of the first cycle (" << law->description()
                   << "):" << std::endl
                   << "  volume loss:       " << 1e6 * measures.volume
@@ -268,11 +277,12 @@ namespace TKR::Problems
                   << "  linear extrapolation to " << wear.cycles
                   << " cycles without geometry update: " << mass * n_cycles
                   << " mg" << std::endl
-                  << "  steps: " << n_reports << ", converged: " << n_converged;
+                  << "  steps: " << counts.steps
+                  << ", converged: " << counts.converged;
     if (!parameters.output.testing)
-      model.pcout() << ", contact solves: " << n_solves
+      model.pcout() << ", contact solves: " << counts.solves
                     << ", Newton iterations per step: "
-                    << double(n_newton) / n_reports;
+                    << double(counts.newton) / counts.steps;
     model.pcout() << std::endl << "  load balance (";
     for (unsigned int a = 0; a < cycles.size(); ++a)
       model.pcout() << (a > 0 ? "; " : "")
