@@ -111,6 +111,8 @@ SUMMARY_KEYS = {
     "contact_solves": ("integer", (WEAR,)),
     "mean_newton_iterations": ("number", (WEAR,)),
     "pose_fallbacks": ("integer", (WEAR,)),
+    "cut_back_steps": ("integer", (WEAR,)),
+    "sub_steps": ("integer", (WEAR,)),
     "cycles_per_extrapolation_step": ("number", (WEAR,)),
     "first_cycle_mass_loss_mg_per_million_cycles": ("number", (WEAR,)),
     "linear_extrapolation_mass_loss_mg": ("number", (WEAR,)),

@@ -86,7 +86,34 @@ def describe(result):
             % (name, a["centre"][0], a["centre"][1], a["radius"], a["points"], a["rms"])
         )
     lines.append("  flexion axis estimate: through (%.3f, %.3f, %.3f), parallel to x" % result["point"])
+    lines += disagreement(result)
     return "\n".join(lines)
+
+
+def disagreement(result, limit=2.0):
+    """Lines on how far the two condyles' distal arcs disagree: the distance
+    of their centres and the difference of their radii, and a warning where
+    the centres are more than `limit` mm apart (tkr-wear warns with the
+    same limit when the axis it is given is that far from a condyle's
+    centre). A real component may have condyles of different sagittal
+    radii: then no single axis is the centre of both, and about the mean
+    one condyle rises against the other as the femur flexes."""
+    arcs = list(result["condyles"].values())
+    if len(arcs) != 2:
+        return []
+    (y0, z0), (y1, z1) = arcs[0]["centre"], arcs[1]["centre"]
+    apart = float(np.hypot(y1 - y0, z1 - z0))
+    lines = [
+        "  the condyles' distal arcs: centres %.2f mm apart (y %+.2f, z %+.2f mm), radii differ by %.2f mm"
+        % (apart, y1 - y0, z1 - z0, arcs[1]["radius"] - arcs[0]["radius"])
+    ]
+    if apart > limit:
+        lines.append(
+            "  warning: the condyles' distal arcs are centred %.1f mm apart: no single axis is the "
+            "centre of both, and the estimate (their mean) is %.1f mm from each. Use the component's "
+            'design axis if its maker states one (doc/gait.md, "The flexion axis").' % (apart, 0.5 * apart)
+        )
+    return lines
 
 
 def prm_fragment(mesh_path, result, insert_width):
@@ -119,6 +146,9 @@ def prm_fragment(mesh_path, result, insert_width):
     lines += [
         "  # averaged. Check it against your CAD: a wrong axis moves the femur",
         "  # into or away from the insert as it flexes.",
+    ]
+    lines += ["  #" + line[1:] for line in disagreement(result)]
+    lines += [
         "  set Flexion axis point = %.3f, %.3f, %.3f" % result["point"],
         "  # A GUESS: which side of x is medial depends on the knee (left or",
         "  # right) and cannot be read from the geometry. Confirm it.",

@@ -33,7 +33,11 @@ namespace TKR::Output
     // formats 3 and 4 are read without them (the first block after the
     // resume then starts from the last poses).
     // 6: the activities of a mix; formats 3 to 5 are read without (no mix).
-    constexpr unsigned int format_version = 6, oldest_format = 3;
+    // 7: the steps cut back and their sub-steps; formats 3 to 6 are read as
+    // none.
+    constexpr unsigned int format_version = 7, oldest_format = 3;
+    /** The first format with the cut-back counts. */
+    constexpr unsigned int cut_back_format = 7;
     /** The first format with the activities of a mix. */
     constexpr unsigned int activities_format = 6;
     /** Columns of an activity in the activity_history dataset
@@ -114,6 +118,8 @@ namespace TKR::Output
       file.set_attribute("newton_iterations", double(state.newton_iterations));
       file.set_attribute("steps", double(state.steps));
       file.set_attribute("pose_fallbacks", double(state.pose_fallbacks));
+      file.set_attribute("cut_back_steps", double(state.cut_back_steps));
+      file.set_attribute("sub_steps", double(state.sub_steps));
       file.set_attribute("converged", state.converged);
       file.set_attribute("max_pressure", state.max_pressure);
       file.set_attribute("first_cycle_mass", state.first_cycle_mass);
@@ -145,6 +151,13 @@ namespace TKR::Output
             pose_fallbacks_format ?
           0 :
           std::llround(file.get_attribute<double>("pose_fallbacks"));
+      const bool cut_back =
+        file.get_attribute<unsigned int>("format_version") >= cut_back_format;
+      state.cut_back_steps =
+        cut_back ? std::llround(file.get_attribute<double>("cut_back_steps")) :
+                   0;
+      state.sub_steps =
+        cut_back ? std::llround(file.get_attribute<double>("sub_steps")) : 0;
       state.converged        = file.get_attribute<bool>("converged");
       state.max_pressure     = file.get_attribute<double>("max_pressure");
       state.first_cycle_mass = file.get_attribute<double>("first_cycle_mass");

@@ -53,6 +53,8 @@ namespace TKR::Output
          << (r.converged      ? "" :
              r.pose_converged ? "  NOT CONVERGED" :
                                 "  POSE NOT CONVERGED");
+    if (r.sub_steps > 0)
+      line << ", cut back: " << r.sub_steps << " sub-steps";
     if (!testing)
       line << ", " << std::setprecision(2) << r.wall_time << " s";
     return line.str();

@@ -88,6 +88,18 @@ namespace TKR::Parameters
                         "system regular while the active set is wrong and "
                         "vanishes as the pose iteration converges (its force "
                         "is then below this times the Pose tolerance).");
+      prm.declare_entry(
+        "Largest initial overlap",
+        "0.5",
+        Patterns::Double(0),
+        "Where the meshed bodies overlap at 0 % of the cycle (the facets of "
+        "a CAD export or of split cells), the first step starts with the "
+        "tray lowered by the overlap (reported): its axial position is an "
+        "unknown of both protocols. An overlap above this (mm) is refused: "
+        "it is more than facets explain (a CAD export's chords stray up to "
+        "0.44 mm from the surface at a 0.25 mm chordal tolerance, "
+        "doc/geometry.md), so a body is misplaced, in other units, or the "
+        "flexion axis is wrong.");
       prm.declare_entry("Pose tolerance",
                         "0.001",
                         Patterns::Double(0),
@@ -214,6 +226,7 @@ namespace TKR::Parameters
       tray_flatness_tolerance = prm.get_double("Tray flatness tolerance");
       axial_stabilisation_spring = prm.get_double("Axial stabilisation spring");
       pose_tolerance             = prm.get_double("Pose tolerance");
+      largest_initial_overlap    = prm.get_double("Largest initial overlap");
       coupled_pose               = (prm.get("Pose solver") == "coupled");
       femur_ap_offset            = prm.get_double("Femur AP offset");
       protocols                  = TKR::Gait::Protocols::parse_parameters(prm);

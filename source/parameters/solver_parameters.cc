@@ -132,8 +132,11 @@ namespace TKR::Parameters
       prm.declare_entry("Overlap tolerance",
                         "0.05",
                         Patterns::Double(0),
-                        "The bodies may overlap by at most this (mm) in the "
-                        "initial geometry; more is refused as a mesh error.");
+                        "Problem = contact: the bodies may overlap by at most "
+                        "this (mm) in the initial geometry; more is refused "
+                        "as a mesh error. (A wear run takes an overlap up by "
+                        "the tray's axial position: Gait/Largest initial "
+                        "overlap.)");
     }
     prm.leave_subsection();
   }

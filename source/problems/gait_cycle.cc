@@ -8,6 +8,7 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <tkr/base/exceptions.h>
+#include <tkr/gait/condyle_arcs.h>
 #include <tkr/mesh/mesh.h>
 #include <tkr/output/wear_output.h>
 #include <tkr/problems/gait_cycle.h>
@@ -66,6 +67,8 @@ namespace TKR::Problems
     dirichlet.close();
 
     model.setup_contact_surfaces();
+    if (report_model)
+      check_flexion_axis();
 
     const unsigned int n_steps = gait.steps_per_cycle;
     records.assign(n_steps, Wear::StepRecord());
@@ -84,6 +87,23 @@ namespace TKR::Problems
                                                            "step_" + name,
                                             groups.communicator,
                                             model.world());
+  }
+
+  // The flexion axis should be the centre of both condyles' distal arcs;
+  // said on the screen where it is far from one (doc/gait.md).
+  void
+  GaitCycle::check_flexion_axis() const
+  {
+    const std::vector<Point<3>> positions = model.geometry().vertex_positions();
+    std::vector<Point<3>>       femur;
+    for (const auto &node : model.master_surface().nodes())
+      femur.push_back(positions[node.vertex]);
+    const std::string warning =
+      Gait::flexion_axis_warning(Gait::distal_arcs(femur),
+                                 gait.flexion_axis_point,
+                                 flexion_axis_limit);
+    if (!warning.empty())
+      model.pcout() << warning << std::endl;
   }
 
   // The stiffness (with the springs) is the same in every step and pose
@@ -162,18 +182,41 @@ namespace TKR::Problems
     return lift;
   }
 
-  // The meshes' facets may leave the bodies overlapping slightly; more than
-  // the overlap tolerance is a mesh (or flexion axis) error.
-  void
-  GaitCycle::check_initial_overlap() const
+  // The facets of the meshes (a CAD export's chords, the straight sides of
+  // split cells) may leave the bodies overlapping slightly in the initial
+  // geometry. Both protocols leave the tray's axial position free, so such
+  // an overlap is not an error: the first step starts from the tray
+  // lowered by it, and the solve finds the equilibrium from there. An
+  // overlap larger than `Gait/Largest initial overlap` is more than facets
+  // explain (a misplaced body, a wrong flexion axis or unit) and is refused
+  // with where it is.
+  double
+  GaitCycle::take_up_initial_overlap(const Gait::StepInput &input,
+                                     const Gait::Pose      &pose)
   {
-    const double min_gap = Contact::smallest_gap(model.coupling()).first;
-    AssertThrow(min_gap >= -model.parameters().contact_solver.overlap_tolerance,
-                ExcInputError("At 0 % of the cycle the femur penetrates the "
-                              "insert by " +
-                              format_number(-min_gap) +
-                              " mm, more than the Overlap tolerance. Check "
-                              "the mesh and the flexion axis point."));
+    couple(protocol->motion(input, pose), nullptr);
+    if (model.coupling().statistics().n_covered_nodes == 0)
+      return 0; // (the step's first solve says so)
+    const auto [min_gap, closest] = Contact::smallest_gap(model.coupling());
+    if (min_gap >= 0)
+      return 0;
+    const Point<3> where =
+      model.geometry()
+        .vertex_positions()[model.slave_surface().nodes()[closest].vertex];
+    AssertThrow(-min_gap <= gait.largest_initial_overlap,
+                ExcInputError(
+                  "At 0 % of the cycle the femur penetrates the insert by " +
+                  format_number(-min_gap) + " mm at (" +
+                  format_number(where[0]) + ", " + format_number(where[1]) +
+                  ", " + format_number(where[2]) +
+                  "), more than the Largest initial overlap of " +
+                  format_number(gait.largest_initial_overlap) +
+                  " mm that faceted surfaces explain: the bodies are "
+                  "misplaced. Move the femur up by the overlap "
+                  "(scripts/mesh-implant places it on the final meshes), "
+                  "or check the mesh's units and the Flexion axis point."));
+    initial_overlap = -min_gap;
+    return -min_gap;
   }
 
   void
@@ -196,25 +239,28 @@ namespace TKR::Problems
   Gait::Pose
   GaitCycle::start_step(const unsigned int     step,
                         const Gait::StepInput &input,
-                        StepProgress          &progress) const
+                        StepProgress          &progress)
   {
-    const auto &parameters = model.parameters();
-    progress.window.width  = parameters.contact_solver.coupling_window;
+    const auto &parameters       = model.parameters();
+    progress.window.width        = parameters.contact_solver.coupling_window;
+    const Gait::StepStart &start = cycle_starts[step];
     if (parameters.wear.warm_start)
-      progress.window.face_clearance = starts[step].face_clearance;
+      progress.window.face_clearance = start.face_clearance;
     progress.use_window =
       progress.window.width > 0 && !progress.window.face_clearance.empty();
-    if (parameters.wear.warm_start && !starts[step].empty())
+    if (parameters.wear.warm_start && !start.empty())
       {
-        progress.state.active = starts[step].active;
-        return starts[step].predicted_pose();
+        progress.state.active = start.active;
+        return start.predicted_pose();
       }
-    const double lift = touching_lift(
+    double lift = touching_lift(
       step_positions(protocol->motion(input, protocol->rest_pose(input, 0.))));
-    if (lift > 0.5 * parameters.contact_solver.search_distance &&
-        lift < std::numeric_limits<double>::max())
-      return protocol->rest_pose(input, lift);
-    return protocol->rest_pose(input, 0.);
+    if (!(lift > 0.5 * parameters.contact_solver.search_distance &&
+          lift < std::numeric_limits<double>::max()))
+      lift = 0;
+    if (check_overlap && step == 0)
+      lift -= take_up_initial_overlap(input, protocol->rest_pose(input, lift));
+    return protocol->rest_pose(input, lift);
   }
 
   // A solve that leaves the coupling window is repeated on the whole
@@ -234,7 +280,7 @@ namespace TKR::Problems
         narrow = false;
         couple(motion, nullptr);
       }
-    check_coupling(step, progress);
+    check_coupling(step);
     ++progress.n_solves;
     const std::vector<double> coefficients =
       protocol->load_coefficients(input, pose);
@@ -260,16 +306,13 @@ namespace TKR::Problems
   }
 
   void
-  GaitCycle::check_coupling(const unsigned int  step,
-                            const StepProgress &progress) const
+  GaitCycle::check_coupling(const unsigned int step) const
   {
     AssertThrow(model.coupling().statistics().n_covered_nodes > 0,
                 ExcInputError("Gait step " + std::to_string(step) +
                               ": no part of tibia_contact faces "
                               "femur_contact within the search "
                               "distance; check the flexion axis point."));
-    if (check_overlap && step == 0 && progress.n_solves == 0)
-      check_initial_overlap();
   }
 
   void
@@ -300,19 +343,10 @@ namespace TKR::Problems
     Timer                 step_timer;
     const Gait::StepInput input = protocol->input(100. * step / n_steps());
     StepProgress          progress;
-    Gait::Pose            pose = start_step(step, input, progress);
-    const Gait::PoseSolve pose_solve =
-      !pose_equations.unknowns.empty() ?
-        coupled_pose_solve(step, input, pose, progress) :
-        protocol->solve_pose(input,
-                             pose,
-                             [&](const Gait::Pose   &at,
-                                 Gait::Observations &observed) {
-                               const bool converged =
-                                 contact_solve(step, input, at, progress);
-                               observed = progress.observations;
-                               return converged;
-                             });
+    Gait::Pose            pose       = start_step(step, input, progress);
+    Gait::PoseSolve       pose_solve = solve_pose(step, input, pose, progress);
+    if (!pose_solve.converged)
+      pose_solve = cut_back(step, input, pose_solve, pose, progress);
 
     const Gait::RelativeMotion motion = protocol->motion(input, pose);
     const auto                &state  = progress.state;
@@ -333,6 +367,7 @@ namespace TKR::Problems
     report.pose_converged    = pose_solve.converged;
     report.pose_residual     = pose_solve.residual;
     report.pose_fallbacks    = pose_solve.n_fallbacks;
+    report.sub_steps         = pose_solve.n_sub_steps;
     report.contact_converged = stats.converged;
     report.wall_time         = step_timer.wall_time();
     protocol->report(pose, progress.observations, report);
@@ -354,6 +389,102 @@ namespace TKR::Problems
       saved_steps[step] = {solver->compute_solution(), state, motion};
   }
 
+  Gait::PoseSolve
+  GaitCycle::solve_pose(const unsigned int     step,
+                        const Gait::StepInput &input,
+                        Gait::Pose            &pose,
+                        StepProgress          &progress)
+  {
+    if (!pose_equations.unknowns.empty())
+      return coupled_pose_solve(step, input, pose, progress);
+    return protocol->solve_pose(input,
+                                pose,
+                                [&](const Gait::Pose   &at,
+                                    Gait::Observations &observed) {
+                                  const bool converged =
+                                    contact_solve(step, input, at, progress);
+                                  observed = progress.observations;
+                                  return converged;
+                                });
+  }
+
+  // A step's pose may fail to converge from its start: a cold start far
+  // from the equilibrium, an active set that changes by much between the
+  // start and the end (swing to stance, the femur onto a rim). The
+  // elastic frictionless contact has one solution whatever the path, so
+  // the step is approached along the cycle from the instant before,
+  // through the inputs in between, each sub-step starting where the one
+  // before ended (close to its solution: one or two Newton steps). Every
+  // solve is counted in the step's report (its pose updates); the step's
+  // result is the last sub-step's, which is the step itself.
+  Gait::PoseSolve
+  GaitCycle::cut_back(const unsigned int     step,
+                      const Gait::StepInput &input,
+                      const Gait::PoseSolve &failed,
+                      Gait::Pose            &pose,
+                      StepProgress          &progress)
+  {
+    const unsigned int n        = n_steps();
+    const unsigned int previous = (step + n - 1) % n;
+    // (the instant before step 0 is the cycle's last step, one step early)
+    const double          from  = 100. * (double(step) - 1.) / n;
+    const double          to    = input.percent;
+    Gait::PoseSolve       total = failed;
+    StepProgress          at_progress;
+    const Gait::StepInput at_input = protocol->input(from);
+    Gait::Pose            at_pose = start_step(previous, at_input, at_progress);
+    const auto            add     = [&](const Gait::PoseSolve &solve) {
+      total.n_updates += solve.n_updates + 1;
+      total.n_fallbacks += solve.n_fallbacks;
+    };
+    Gait::PoseSolve solve =
+      solve_pose(previous, at_input, at_pose, at_progress);
+    add(solve);
+    double done = 0, size = 0.5;
+    while (solve.converged && done < 1.)
+      {
+        const double    next       = std::min(1., done + size);
+        StepProgress    trial      = at_progress;
+        Gait::Pose      trial_pose = at_pose;
+        Gait::StepInput trial_input =
+          next < 1. ? protocol->input(from + next * (to - from)) : input;
+        trial.n_solves = trial.newton_iterations = 0;
+        trial.refined                            = Gait::Pose();
+        solve = solve_pose(step, trial_input, trial_pose, trial);
+        add(solve);
+        if (solve.converged)
+          {
+            ++total.n_sub_steps;
+            trial.n_solves += at_progress.n_solves;
+            trial.newton_iterations += at_progress.newton_iterations;
+            done        = next;
+            at_progress = std::move(trial);
+            at_pose     = std::move(trial_pose);
+            size        = std::min(2. * size, 0.5);
+          }
+        else if (size > smallest_sub_step)
+          {
+            at_progress.n_solves += trial.n_solves;
+            at_progress.newton_iterations += trial.newton_iterations;
+            size /= 2;
+            solve.converged = true; // (try the smaller sub-step)
+          }
+      }
+    if (!solve.converged || done < 1.)
+      {
+        total.converged   = false;
+        total.n_sub_steps = 0;
+        return total;
+      }
+    at_progress.n_solves += progress.n_solves;
+    at_progress.newton_iterations += progress.newton_iterations;
+    progress        = std::move(at_progress);
+    pose            = std::move(at_pose);
+    total.converged = true;
+    total.residual  = solve.residual;
+    return total;
+  }
+
   // A step may raise an input error (e.g. no contact within the search
   // distance) in its step group only: the groups agree on it before the
   // next collective operation, so that every rank stops with the message
@@ -365,7 +496,9 @@ namespace TKR::Problems
   {
     const std::vector<unsigned int> steps = groups.own_items(n_steps());
     saved_steps.clear();
-    check_overlap = initial_geometry;
+    check_overlap   = initial_geometry;
+    initial_overlap = 0;
+    cycle_starts    = starts;
     std::string error;
     int         signal = 0;
     try
@@ -387,6 +520,13 @@ namespace TKR::Problems
       AssertThrow(message.empty(), ExcInputError(message));
     signal = Utilities::MPI::max(signal, model.world());
     AssertThrow(signal == 0, ExcStopped(signal_name(signal)));
+    initial_overlap = Utilities::MPI::max(initial_overlap, model.world());
+    if (initial_overlap > 0)
+      model.pcout() << "At 0 % of the cycle the femur overlaps the insert by "
+                    << format_number(initial_overlap)
+                    << " mm (the meshes' facets): step 0 started from the "
+                       "tray lowered by it."
+                    << std::endl;
     {
       TimerOutput::Scope scope(model.timer(), "collect steps");
       gather_steps(groups.is_group_root ? steps : std::vector<unsigned int>());

@@ -181,7 +181,7 @@ namespace TKR::Problems
       {
         std::vector<double> q = system.unknowns(pose);
         system.couple(q);
-        check_coupling(step, progress);
+        check_coupling(step);
         progress.state      = start;
         progress.statistics = solver->solve_with_pose(
           system,

@@ -150,6 +150,8 @@ namespace TKR::Problems
       for (const auto &r : c->get_reports())
         {
           state.pose_fallbacks += r.pose_fallbacks;
+          state.cut_back_steps += r.sub_steps > 0;
+          state.sub_steps += r.sub_steps;
           peak_pressure    = std::max(peak_pressure, r.max_pressure);
           max_contact_area = std::max(max_contact_area, r.contact_area);
         }
@@ -539,6 +541,8 @@ namespace TKR::Problems
     result.contact_solves    = state.contact_solves;
     result.newton_iterations = state.newton_iterations;
     result.pose_fallbacks    = state.pose_fallbacks;
+    result.cut_back_steps    = state.cut_back_steps;
+    result.sub_steps         = state.sub_steps;
     result.cycles_per_block  = state.cycles_per_block;
     result.first_cycle_mass  = state.first_cycle_mass;
     result.linear_extrapolation_mass =

@@ -57,6 +57,8 @@ namespace TKR::Wear
        {"contact_solves", double(contact_solves)},
        {"mean_newton_iterations", double(newton_iterations) / contact_solves},
        {"pose_fallbacks", double(pose_fallbacks)},
+       {"cut_back_steps", double(cut_back_steps)},
+       {"sub_steps", double(sub_steps)},
        {"cycles_per_extrapolation_step", cycles_per_block},
        {"first_cycle_mass_loss_mg_per_million_cycles", 1e6 * first_cycle_mass},
        {"linear_extrapolation_mass_loss_mg", linear_extrapolation_mass},

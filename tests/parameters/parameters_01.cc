@@ -352,6 +352,11 @@ namespace
                               [](const P &p) {
                                 return num(p.gait.pose_tolerance);
                               }},
+                             {"Gait/Largest initial overlap",
+                              "0.25",
+                              [](const P &p) {
+                                return num(p.gait.largest_initial_overlap);
+                              }},
                              {"Gait/Step groups",
                               "2",
                               [](const P &p) {

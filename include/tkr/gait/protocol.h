@@ -62,6 +62,11 @@ namespace TKR::Gait
      * Contact::PoseStatistics): counted in summary.json (pose_fallbacks).
      */
     unsigned int n_fallbacks = 0;
+    /**
+     * Sub-steps of a cut-back (Problems::GaitCycle::cut_back(); 0: the step
+     * was solved at once): counted in summary.json (sub_steps).
+     */
+    unsigned int n_sub_steps = 0;
   };
 
   /**

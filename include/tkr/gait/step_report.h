@@ -83,6 +83,8 @@ namespace TKR::Gait
     double pose_residual = 0;
     /** Pose Newton steps off the Newton direction (PoseSolve). */
     unsigned int pose_fallbacks = 0;
+    /** Sub-steps of the step's cut-back (PoseSolve; 0: none). */
+    unsigned int sub_steps = 0;
     /** Every contact solve of the step converged. */
     bool   contact_converged = false;
     double wall_time         = 0;
@@ -97,6 +99,7 @@ namespace TKR::Gait
       archive &contact_resultant                &contact_moment;
       archive &converged &pose_converged        &wall_time;
       archive &pose_residual &contact_converged &pose_fallbacks;
+      archive                                   &sub_steps;
     }
   };
 

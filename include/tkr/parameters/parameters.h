@@ -187,6 +187,9 @@ namespace TKR::Parameters
     /** Pose updates stop when the mean inferior displacement is below this
      * (mm). */
     double pose_tolerance;
+    /** The largest overlap of the bodies at 0 % that the first step takes
+     * up by lowering the tray (mm); more is refused. */
+    double largest_initial_overlap;
     /**
      * The pose solved together with the contact in one semismooth Newton
      * iteration (true, `Pose solver = coupled`; needs the condensed

@@ -78,10 +78,11 @@ namespace TKR::Problems
      * otherwise); steps that did not converge are always printed. With
      * @p keep_for_output, the steps of the `VTU interval` are kept for
      * output_steps(). With @p initial_geometry (the unworn insert of a
-     * fresh run), the first solve of step 0 checks that the bodies do not
-     * overlap more than the `Overlap tolerance` (a check of the mesh and
-     * the flexion axis; a warm-started worn state carries the elastic
-     * indentation of the block before). An input error in one step group
+     * fresh run), step 0 starts with the tray lowered by the bodies'
+     * overlap and refuses one larger than `Gait/Largest initial overlap`
+     * (take_up_initial_overlap(); a warm-started worn state carries the
+     * elastic indentation of the block before). A step whose pose does not
+     * converge is cut back (cut_back()). An input error in one step group
      * is raised on every rank. A stop signal (stop_requested()) ends the
      * cycle before its next step and raises ExcStopped (its message the
      * signal's name) on every rank; the step starts of the steps done are
@@ -177,6 +178,44 @@ namespace TKR::Problems
     };
 
     /**
+     * The pose solve of step @p step at @p input from @p pose (updated):
+     * with the contact (coupled_pose_solve()) where the protocol names its
+     * unknowns, else the protocol's own loop of contact solves.
+     */
+    Gait::PoseSolve
+    solve_pose(const unsigned int     step,
+               const Gait::StepInput &input,
+               Gait::Pose            &pose,
+               StepProgress          &progress);
+
+    /**
+     * The cut-back of a step whose pose did not converge (as Abaqus cuts
+     * an increment back): the instant of the step before is solved from
+     * its own start, then the cycle is followed from there to the step's
+     * instant in sub-steps (the inputs of the protocol at the instants in
+     * between: load and flexion interpolated as the waveform is), each
+     * from the end of the one before; a sub-step that does not converge is
+     * halved, down to smallest_sub_step of the step. The elastic,
+     * frictionless contact does not depend on the path, so the end is the
+     * step's solution. On success @p pose and @p progress are the step's
+     * end and the returned solve counts every solve of the cut-back
+     * (PoseSolve::n_sub_steps the sub-steps); else they are left as they
+     * were and the failed solve is returned.
+     */
+    Gait::PoseSolve
+    cut_back(const unsigned int     step,
+             const Gait::StepInput &input,
+             const Gait::PoseSolve &failed,
+             Gait::Pose            &pose,
+             StepProgress          &progress);
+
+    /**
+     * The smallest sub-step of a cut-back, as a fraction of a step (five
+     * halvings of the first sub-step of half a step).
+     */
+    static constexpr double smallest_sub_step = 1. / 64;
+
+    /**
      * Solve step @p step: the protocol's pose solve of contact solves,
      * the record and report; keep its solution for output if
      * @p keep_for_output.
@@ -195,7 +234,7 @@ namespace TKR::Problems
     Gait::Pose
     start_step(const unsigned int     step,
                const Gait::StepInput &input,
-               StepProgress          &progress) const;
+               StepProgress          &progress);
 
     /**
      * One contact solve of step @p step at @p pose: the mortar coupling on
@@ -222,11 +261,24 @@ namespace TKR::Problems
                        StepProgress          &progress);
 
     /**
-     * Refuse a coupling of step @p step without a covered node; at the
-     * step's first solve of the initial geometry, check the overlap.
+     * Warn if `Gait/Flexion axis point` is more than flexion_axis_limit
+     * from a condyle's distal-arc centre (Gait::flexion_axis_warning()).
      */
     void
-    check_coupling(const unsigned int step, const StepProgress &progress) const;
+    check_flexion_axis() const;
+
+    /**
+     * How far (mm) the flexion axis may lie from a condyle's distal-arc
+     * centre without a warning: the estimate itself is up to 1.6 mm off on
+     * a short distal arc (TKR B, doc/geometry.md), and an axis 2 mm off
+     * moved the coarse TKR A's mass loss by up to 4.8 %
+     * (doc/robustness.md).
+     */
+    static constexpr double flexion_axis_limit = 2.;
+
+    /** Refuse a coupling of step @p step without a covered node. */
+    void
+    check_coupling(const unsigned int step) const;
 
     /**
      * After a step's contact solve: the face clearances for the coupling
@@ -263,9 +315,17 @@ namespace TKR::Problems
     double
     touching_lift(const std::vector<dealii::Point<3>> &positions) const;
 
-    /** The bodies must not overlap more than the tolerance at 0 %. */
-    void
-    check_initial_overlap() const;
+    /**
+     * At the first step of the initial geometry from rest (@p pose), the
+     * bodies' overlap: one is refused above `Gait/Largest initial overlap`
+     * (a misplaced body or a wrong flexion axis, not a faceting artefact);
+     * a smaller one is taken up by the tray, which starts lowered by it:
+     * returns the overlap (mm; 0: none), and initial_overlap records it
+     * for the report.
+     */
+    double
+    take_up_initial_overlap(const Gait::StepInput &input,
+                            const Gait::Pose      &pose);
 
     /** Exchange the records, reports and starts of @p own_steps. */
     void
@@ -295,6 +355,17 @@ namespace TKR::Problems
     static constexpr unsigned int max_pose_iterations = 40;
     /** Check the overlap at step 0 in this solve() (initial geometry). */
     bool check_overlap = false;
+    /**
+     * The overlap (mm) by which step 0 of the initial geometry started
+     * with the tray lowered (take_up_initial_overlap()); 0: none.
+     */
+    double initial_overlap = 0;
+    /**
+     * The step starts at the beginning of the current solve(): a cut-back
+     * starts from the step before as it stood then, whichever steps this
+     * group has solved since (the result does not depend on the groups).
+     */
+    std::vector<Gait::StepStart> cycle_starts;
 
     /** What the VTU of a step needs (its solution, state and motion). */
     struct SavedStep

@@ -42,6 +42,9 @@ namespace TKR::Wear
     /** Step solves and the solver's effort over all blocks. */
     unsigned long long steps = 0, contact_solves = 0, newton_iterations = 0,
                        pose_fallbacks = 0;
+    /** Steps whose pose converged only in sub-steps (a cut-back), and the
+     *  sub-steps they took. */
+    unsigned long long cut_back_steps = 0, sub_steps = 0;
     /** The last block's n_Delta (cycles). */
     double cycles_per_block = 0;
     /** The first cycle's mass loss (mg) and its linear extrapolation to

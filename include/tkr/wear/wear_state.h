@@ -121,7 +121,9 @@ namespace TKR::Wear
     unsigned long long               steps             = 0;
     /** Pose Newton steps off the Newton direction (StepReport). */
     unsigned long long pose_fallbacks = 0;
-    bool               converged      = true;
+    /** Steps solved by a cut-back, and their sub-steps (StepReport). */
+    unsigned long long cut_back_steps = 0, sub_steps = 0;
+    bool               converged = true;
     /** Peak pressure over the run (MPa). */
     double max_pressure = 0;
     /** Every step that did not converge, over all blocks. */

@@ -72,3 +72,23 @@ def test_toroidal_condyles_on_unstructured_nodes():
     assert np.hypot(y - Y0, z - Z0) < 0.1
     for arc in result["condyles"].values():
         assert abs(arc["radius"] - r_distal) < 0.1
+
+
+def test_condyles_of_different_arcs_are_reported():
+    """Condyles whose distal arcs have radii 30 and 36 mm, both lowest at
+    the same height (so their centres are 6 mm apart in z), as on a real
+    posterior-stabilised component: each arc is found, and the report
+    states how far apart the centres are and warns (more than 2 mm)."""
+    nodes = []
+    for xc, r in zip(CONDYLES, (30.0, 36.0)):
+        profile = j_curve(r)
+        profile[:, 1] += r - 30.0  # the lowest points at the same height
+        for x in np.arange(xc - 8.0, xc + 8.01, 0.5):
+            nodes.append(np.column_stack([np.full(len(profile), x), profile]))
+    result = flexion_axis.estimate(np.concatenate(nodes))
+    assert result["condyles"]["-x"]["centre"] == pytest.approx((Y0, Z0), abs=1e-9)
+    assert result["condyles"]["+x"]["centre"] == pytest.approx((Y0, Z0 + 6.0), abs=1e-9)
+    lines = flexion_axis.disagreement(result)
+    assert "centres 6.00 mm apart" in lines[0] and "z +6.00 mm), radii differ by 6.00 mm" in lines[0]
+    assert "warning" in lines[1] and "3.0 mm from each" in lines[1]
+    assert flexion_axis.disagreement(result, limit=7.0)[1:] == []
