@@ -101,6 +101,14 @@ def disagreement(result, limit=2.0):
     arcs = list(result["condyles"].values())
     if len(arcs) != 2:
         return []
+    poor = [name for name, a in result["condyles"].items() if a["rms"] > 0.1]
+    if poor:
+        # (the fit window reaching into the next arc or across a box: no
+        # centre to compare; tkr-wear does not judge such an arc either)
+        return [
+            "  the condyles' distal arcs are not compared: the profile at %s is no circle within 0.1 mm"
+            % poor[0]
+        ]
     (y0, z0), (y1, z1) = arcs[0]["centre"], arcs[1]["centre"]
     apart = float(np.hypot(y1 - y0, z1 - z0))
     lines = [

@@ -155,8 +155,15 @@ namespace TKR::Gait
              ", " + format_number(a.centre_z) + "), radius " +
              format_number(a.radius) + " mm";
     };
-    std::string far;
+    // A profile that is no circle within 0.1 mm (the fit window reaching
+    // into the next arc, or across a box or cam) gives no centre to judge
+    // the axis by (TKR C's coarse mesh: rms 0.154 mm on one condyle).
+    std::vector<DistalArc> circles;
     for (const DistalArc &a : arcs)
+      if (a.rms <= 0.1)
+        circles.push_back(a);
+    std::string far;
+    for (const DistalArc &a : circles)
       {
         const double distance =
           std::hypot(a.centre_y - axis_point[1], a.centre_z - axis_point[2]);
@@ -165,9 +172,9 @@ namespace TKR::Gait
                  format_number(distance) + " mm from the axis";
       }
     double apart = 0;
-    if (arcs.size() == 2)
-      apart = std::hypot(arcs[0].centre_y - arcs[1].centre_y,
-                         arcs[0].centre_z - arcs[1].centre_z);
+    if (circles.size() == 2)
+      apart = std::hypot(circles[0].centre_y - circles[1].centre_y,
+                         circles[0].centre_z - circles[1].centre_z);
     if (far.empty() && apart <= limit)
       return "";
     std::string text =
@@ -176,7 +183,8 @@ namespace TKR::Gait
       ") is more than " + format_number(limit) +
       " mm from a condyle's distal arc (estimated from femur_contact as "
       "scripts/mesh-implant does): " +
-      (far.empty() ? describe(arcs[0]) + "; " + describe(arcs[1]) : far) + ".";
+      (far.empty() ? describe(circles[0]) + "; " + describe(circles[1]) :
+                     far) + ".";
     if (apart > limit)
       text += " The two arcs' centres are " + format_number(apart) +
               " mm apart: no single axis is the centre of both, and about "

@@ -171,7 +171,8 @@ namespace TKR::Output
            starts_with(entry, "Materials/") ||
            (starts_with(entry, "Gait/") && entry != "Gait/Step groups" &&
             entry != "Gait/Waveform file" && entry != "Gait/Pose solver" &&
-            entry != "Gait/Activities") ||
+            entry != "Gait/Activities" &&
+            entry != "Gait/Largest initial overlap") ||
            (starts_with(entry, "Wear/") && entry != "Wear/Cycles" &&
             entry != "Wear/Distortion limit" &&
             entry != "Wear/Halve step on distortion" &&

@@ -522,7 +522,8 @@ namespace TKR::Problems
     AssertThrow(signal == 0, ExcStopped(signal_name(signal)));
     initial_overlap = Utilities::MPI::max(initial_overlap, model.world());
     if (initial_overlap > 0)
-      model.pcout() << "At 0 % of the cycle the femur overlaps the insert by "
+      model.pcout() << (name.empty() ? "" : "Activity " + name + ": ")
+                    << "At 0 % of the cycle the femur overlaps the insert by "
                     << format_number(initial_overlap)
                     << " mm (the meshes' facets): step 0 started from the "
                        "tray lowered by it."

@@ -51,7 +51,9 @@ namespace TKR::Gait
    * centre, or if the two arcs' centres are more than @p limit apart (no
    * single axis is the centre of both): which condyle, by how much, and
    * what to do (doc/gait.md, "The flexion axis"). Empty if the axis is
-   * within the limit of both.
+   * within the limit of both. An arc fitted with an rms above 0.1 mm is
+   * not judged (its profile is no circle: the window reaches into the
+   * next arc or across a box).
    */
   std::string
   flexion_axis_warning(const std::vector<DistalArc> &arcs,
