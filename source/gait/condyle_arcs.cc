@@ -183,8 +183,8 @@ namespace TKR::Gait
       ") is more than " + format_number(limit) +
       " mm from a condyle's distal arc (estimated from femur_contact as "
       "scripts/mesh-implant does): " +
-      (far.empty() ? describe(circles[0]) + "; " + describe(circles[1]) :
-                     far) + ".";
+      (far.empty() ? describe(circles[0]) + "; " + describe(circles[1]) : far) +
+      ".";
     if (apart > limit)
       text += " The two arcs' centres are " + format_number(apart) +
               " mm apart: no single axis is the centre of both, and about "
