@@ -423,6 +423,10 @@ def femur_contact_without_cam(step):
 
 
 COARSE = [
+    # the whole component with a contact layer, as when tkr-c-coarse.msh was
+    # made (mesh-implant's default is now the articular shell)
+    "--femur-mesh",
+    "layer",
     "--contact-size",
     "5",
     "--size",
