@@ -394,6 +394,7 @@ def femur_contact_without_cam(step):
     g = Geometry()
     args = argparse.Namespace(
         units="mm",
+        rotation=None,
         feature_angle=40.0,
         size=8.0,
         femur_contact_faces=None,
