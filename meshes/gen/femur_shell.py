@@ -33,11 +33,12 @@ looks at nothing but the articular surface:
    curvature of the convex side (where the columns converge: the cam of a
    posterior-stabilised femur, a rounded rim), and neighbours differ by
    at most a factor of 1.4.  Columns of hexahedra whose scaled corner
-   Jacobian falls below `quality` (and below 0.9 times that of the same
-   cell in the limit of a shallow column: the columns' convergence is the
-   cause, not the kite or the columns' tilt against it) are thinned by 0.7
-   again, down to `min_fraction` of that depth (a crease between articular
-   faces, which the smoothing turns into a tight curve, may need that).
+   Jacobian falls below `quality_target` (and below 0.9 times that of the
+   same cell in the limit of a shallow column: the columns' convergence
+   is the cause, not the kite or the columns' tilt against it) are thinned
+   by 0.7 again, down to `min_fraction` of that depth (a crease between
+   articular faces, which the smoothing turns into a tight curve, may need
+   that).
 5. Cells still below `trim_quality` that touch the border of the articular
    patch (a sharp rim, a sliver of a triangle) have their triangles left out
    of the shell, ring by ring (reported: what was trimmed and where).
@@ -309,7 +310,6 @@ class Shell:
 def build(
     nodes,
     quads,
-    owner,
     thickness,
     layers,
     ratio,
@@ -318,9 +318,9 @@ def build(
     min_fraction=0.2,
 ):
     """Steps 3, 4 and 6 of the module docstring on one kite surface (nodes,
-    quads outward, owner: triangle of each quad); step 5 is trim(), which
-    calls this again.  Returns a Shell (without the trimming fields) and
-    the first-layer quality of each quad."""
+    quads outward); mesh_shell() trims (step 5) and calls this again.
+    Returns a Shell (not yet oriented and tagged: finish()) and the
+    smallest quality of the cells under each quad."""
     smoothing = 0.5 * thickness if smoothing is None else smoothing
     frac = fractions(layers, ratio)
     normals = directions(nodes, quads, smoothing)
@@ -411,7 +411,7 @@ def mesh_shell(
     for ring in range(max_rings + 1):
         idx = np.flatnonzero(keep)
         nodes, quads, owner = kites(X, tris[idx], face[idx], curve_edges, project)
-        shell, q_cell = build(nodes, quads, owner, thickness, layers, ratio, smoothing)
+        shell, q_cell = build(nodes, quads, thickness, layers, ratio, smoothing)
         bad = np.unique(owner[q_cell < trim_quality])
         if not len(bad) or ring == max_rings:
             break
