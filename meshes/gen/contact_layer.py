@@ -742,6 +742,13 @@ def keep_valid(straight, nodes, hexes, moved, min_quality=0.02):
 def contact_layer_quality(nodes, hexes, surfaces):
     """{group: (number of hexahedra with a face in the group, their minimum
     scaled corner Jacobian)} for the articular groups."""
+    return {g: v[:2] for g, v in contact_cells(nodes, hexes, surfaces).items()}
+
+
+def contact_cells(nodes, hexes, surfaces):
+    """{group: (number of hexahedra with a face in the group, their minimum
+    scaled corner Jacobian, the centre of the worst one)} for the articular
+    groups (the contact cells, whose quality mesh-implant checks)."""
     faces = {}
     for h, conn in enumerate(hexes):
         for f in blockmesh.HEX_FACES:
@@ -751,7 +758,9 @@ def contact_layer_quality(nodes, hexes, surfaces):
         if g not in CONTACT_GROUPS:
             continue
         hs = np.unique([faces[frozenset(x.tolist())] for x in q])
-        out[g] = (len(hs), float(blockmesh.corner_jacobians(nodes, hexes[hs]).min()))
+        jac = blockmesh.corner_jacobians(nodes, hexes[hs]).min(axis=1)
+        worst = hs[np.argmin(jac)]
+        out[g] = (len(hs), float(jac.min()), nodes[hexes[worst]].mean(axis=0))
     return out
 
 
@@ -767,18 +776,7 @@ def mesh_body(
     smooth ({face: project(points)}), onto a smooth surface).  Returns
     (nodes, hexes, surfaces)."""
     X, tris, face, ent, curve_edges = triangulate_boundary(vol, groups, size_field, size)
-    project = cad_projector() if cad else mesh_projector(X, tris, face, curve_edges)
-    if fine_faces is not None:
-        on_fine, on_mesh, smooth = surface_projector(fine_faces), project, smooth or {}
-
-        def project(kind, tag, P):
-            if kind != 2:
-                return on_mesh(kind, tag, P)
-            P = on_fine(kind, tag, P)
-            if tag in smooth and len(P):
-                P = smooth[tag](P.reshape(-1, 3)).reshape(P.shape)
-            return P
-
+    project = boundary_projector(X, tris, face, curve_edges, cad, fine_faces, smooth)
     body = build_layer(X, tris, face, ent, groups, layers, thickness, ratio, project)
     tets = mesh_core(body, size)
     out = split_into_hexes(body, tets, groups, curve_edges, project)
@@ -791,6 +789,29 @@ def mesh_body(
     if body.n_straight:
         notes.append("%d new boundary nodes left on straight edges (inverted otherwise)" % body.n_straight)
     return out
+
+
+def boundary_projector(X, tris, face, curve_edges, cad, fine_faces=None, smooth=None):
+    """project(kind, tag, points) for the new boundary nodes of a split:
+    onto the OpenCASCADE faces and curves (cad), else onto the boundary
+    triangulation (X, tris, face, curve_edges); with fine_faces ({face:
+    triangles (T x 3 x 3)}) points on faces go onto that finer surface
+    instead, and on the faces in smooth ({face: project(points)}) then onto
+    a smooth surface (mesh_body())."""
+    project = cad_projector() if cad else mesh_projector(X, tris, face, curve_edges)
+    if fine_faces is None:
+        return project
+    on_fine, on_mesh, smooth = surface_projector(fine_faces), project, smooth or {}
+
+    def project_fine(kind, tag, P):
+        if kind != 2:
+            return on_mesh(kind, tag, P)
+        P = on_fine(kind, tag, P)
+        if tag in smooth and len(P):
+            P = smooth[tag](P.reshape(-1, 3)).reshape(P.shape)
+        return P
+
+    return project_fine
 
 
 def closest_on_triangles(P, T):

@@ -11,8 +11,9 @@ Each body is meshed on its own; the two never share nodes.  --method:
                    (most fixed-bearing inserts; on an STL the base may have
                    a locking recess, whose floor the columns stand on), as
                    structured columns under an O-grid of square cells
-                   (--sweep-size) in plan (insert_sweep.py); otherwise, and
-                   the femoral component always, as "layer".
+                   (--sweep-size) in plan (insert_sweep.py); otherwise as
+                   "layer".  The femoral component as its articular shell
+                   (--femur-mesh below).
   layer            a layer of prisms under the articular faces (--layers,
                    --layer-thickness, --layer-ratio) and tetrahedra inside,
                    each prism split into three hexahedra, each tetrahedron
@@ -25,6 +26,24 @@ Each body is meshed on its own; the two never share nodes.  --method:
                    faces), each split into four hexahedra by gmsh
                    (Mesh.SubdivisionAlgorithm = 2): the method before issue
                    18; its nodal contact pressures scatter.
+
+--femur-mesh: shell (the default of auto; femur_shell.py): the femoral
+component as hexahedra extruded inward from its articular surface
+(femur_contact) only, --shell-thickness deep (thinner where the surface's
+radius of curvature is smaller) in --shell-layers layers graded by
+--shell-ratio, along the surface's own smoothed normals; the inner face is
+femur_fixation (clamped by tkr-wear), the side walls are traction free.
+The box, the pegs, the side walls and their sharp edges play no part
+(CoCr is some 200 times stiffer than UHMWPE: the femur contributes the
+shape of its articular surface).  layer and split (the defaults of those
+--method values) mesh the whole component as above.
+
+No impractical mesh is written (issue 50): more than --max-dofs Q1
+displacement DoFs (default 200,000) or a hexahedron with a face on
+femur_contact or tibia_contact of scaled corner Jacobian below
+--min-contact-quality (default 0.1) ends mesh-implant with one error line
+naming the body, the numbers, where the worst cell is and the options that
+would help; nothing is written.
 
 STL surfaces (both inputs STL; --surface remesh, the default; doc/geometry.md
 "STL surfaces as they come"): each surface, in mm and our frame, is checked,
@@ -102,6 +121,7 @@ sys.path.insert(0, HERE)
 
 import blockmesh  # noqa: E402
 import contact_layer  # noqa: E402
+import femur_shell  # noqa: E402
 import insert_sweep  # noqa: E402
 import gmsh_hexes  # noqa: E402
 import flexion_axis  # noqa: E402
@@ -554,6 +574,7 @@ def face_table(vol):
         if tri is None:
             continue
         area, cen, nrm, away = 0.0, np.zeros(3), np.zeros(3), 0.0
+        samples = []
         for t in tri:
             p = X[t]
             n = 0.5 * np.cross(p[1] - p[0], p[2] - p[0])
@@ -564,6 +585,7 @@ def face_table(vol):
             if a == 0:
                 continue
             m = p.mean(axis=0)
+            samples.append(np.concatenate([m, n / a]))
             area += a
             cen += a * m
             nrm += n
@@ -576,6 +598,7 @@ def face_table(vol):
             centroid=cen / area,
             normal=nrm / np.linalg.norm(nrm) if np.linalg.norm(nrm) > 0 else nrm,
             away=away / area,
+            outward=np.array(samples),  # centroid and outward unit normal of each triangle
         )
     return rows, lo, hi
 
@@ -730,6 +753,7 @@ class Part:
                     % (shown, g, g.replace("_", "-"))
                 )
         self.groups = groups
+        self.rows = rows
         self.contact = [s for s, g in groups.items() if g in contact_layer.CONTACT_GROUPS]
 
     def articular_points(self, spacing):
@@ -783,6 +807,9 @@ class Part:
             args.refine_distance,
             contact_layer.width_caps() if self.cad else {},
         )
+        if self.role == "femur" and args.femur_mesh == "shell":
+            self.method = "articular shell"
+            return self.shell(args, field)
         self.method = "contact layer"
         return contact_layer.mesh_body(
             self.vol,
@@ -798,6 +825,51 @@ class Part:
             self.smooth,
         )
 
+    def shell(self, args, field):
+        """--femur-mesh shell: hexahedra extruded inward from the articular
+        faces only (femur_shell.py), on the triangles the contact layer
+        would have had there (the boundary triangulated as for the layer, in
+        a child process: gmsh stays locked after a failure; if that fails,
+        on a face away from the articular surface, only the articular faces
+        are triangulated, turned outward by the face table: then nothing but
+        them is needed)."""
+        if self.cad:
+            try:
+                X, tris, face, _, curve_edges = contact_layer.in_child(
+                    contact_layer.triangulate_boundary, self.vol, self.groups, field, args.size
+                )
+            except Exception as e:
+                note = (
+                    "the femur's boundary could not be triangulated (%s); its articular faces were, alone"
+                    % str(e).strip()
+                )
+                print("note: " + note)
+                self.notes.append(note)
+                X, tris, face, curve_edges = femur_shell.triangulate_faces(
+                    self.contact, {s: self.rows[s]["outward"] for s in self.contact}, field, args.size
+                )
+            project = contact_layer.cad_projector()
+        else:
+            X, tris, face, _, curve_edges = contact_layer.triangulate_boundary(
+                self.vol, self.groups, field, args.size
+            )
+            project = contact_layer.boundary_projector(
+                X, tris, face, curve_edges, False, self.fine_faces, self.smooth
+            )
+        on = np.isin(face, self.contact)
+        tris, face = tris[on], face[on]
+        return femur_shell.mesh_shell(
+            X,
+            tris,
+            face,
+            curve_edges,
+            project,
+            args.shell_thickness,
+            args.shell_layers,
+            args.shell_ratio,
+            self.notes,
+        )
+
 
 def mesh_part_robust(part, args, tmpdir, near):
     """Part.mesh(); where the contact layer of a repaired STL surface fails
@@ -811,6 +883,23 @@ def mesh_part_robust(part, args, tmpdir, near):
 
     notes = []
     again = copy.copy(args)
+    if part.role == "femur" and args.femur_mesh == "shell":
+        # the shell depends on nothing but the articular surface: where its
+        # cells turn inside out it is made again at half the thickness; no
+        # fall back to split tetrahedra (their cells are unfit for contact)
+        for attempt in range(2):
+            try:
+                out = part.mesh(again, near)
+                return out, "; ".join([part.method] + notes + part.notes)
+            except femur_shell.ShellError as e:
+                if attempt:
+                    raise SystemExit("error: the femur's articular shell: %s" % e)
+                note = "note: the articular shell of the femur failed (%s); meshing it again with " % e
+                note += "--shell-thickness %g" % (0.5 * args.shell_thickness)
+            print(note)
+            notes.append(note.replace("note: ", ""))
+            part.notes = []
+            again.shell_thickness = 0.5 * args.shell_thickness
     for thickness in (0.5 * args.layer_thickness, None):
         try:
             out = part.mesh(again, near)
@@ -927,6 +1016,69 @@ def min_vertical_gap(fem, tib):
     return float(g.min())
 
 
+def refuse_impractical(bodies, methods, args):
+    """No impractical mesh is written (issue 50 item 3): more than
+    --max-dofs Q1 displacement DoFs (default 200,000: a wear run of 100
+    blocks on 2 ranks takes hours beyond that), or a contact cell (a
+    hexahedron with a face on femur_contact or tibia_contact) of scaled
+    corner Jacobian below --min-contact-quality (default 0.1: the nodal
+    pressures of such cells scatter by tens of per cent, doc/geometry.md
+    "Contact layers") end mesh-implant with one line naming the body, the
+    numbers, where the worst cell is and the options that would help."""
+    causes = []
+    vertices = {b: len(bodies[b][0]) for b in bodies}
+    dofs = 3 * sum(vertices.values())
+    femur, insert = methods["femur"], methods["tibia"]
+    if dofs > args.max_dofs:
+        helps = ["a larger --contact-size (now %g) or --size (now %g)" % (args.contact_size, args.size)]
+        if femur.startswith("articular shell"):
+            helps.append("fewer --shell-layers (now %d)" % args.shell_layers)
+        else:
+            helps.append("--femur-mesh shell")
+        if insert.startswith("swept"):
+            helps.append("a larger --sweep-size (now %g) or fewer --sweep-cells" % args.sweep_size)
+        causes.append(
+            "the mesh has %d Q1 DoFs (femur %d, insert %d), more than --max-dofs %d: try %s"
+            % (dofs, 3 * vertices["femur"], 3 * vertices["tibia"], args.max_dofs, ", ".join(helps))
+        )
+    for body, group in (("femur", "femur_contact"), ("tibia", "tibia_contact")):
+        n, q, where = contact_layer.contact_cells(*bodies[body])[group]
+        if q >= args.min_contact_quality:
+            continue
+        method = methods[body]
+        if body == "femur":
+            helps = (
+                "a smaller --shell-thickness (now %g) or another --contact-size" % args.shell_thickness
+                if method.startswith("articular shell")
+                else "--femur-mesh shell"
+            )
+        elif method.startswith("swept"):
+            helps = "another --sweep-size or --sweep-top-cell"
+        elif method.startswith("contact layer"):
+            helps = "another --layer-thickness or --contact-size"
+        else:
+            helps = "--method auto"
+        causes.append(
+            "the %s's contact cells (%s, %d on %s) reach a scaled corner Jacobian of %.3f at "
+            "(%.1f, %.1f, %.1f), below --min-contact-quality %g: try %s"
+            % (
+                "insert" if body == "tibia" else body,
+                method.split(";")[0],
+                n,
+                group,
+                q,
+                *where,
+                args.min_contact_quality,
+                helps,
+            )
+        )
+    if causes:
+        raise SystemExit(
+            "error: no mesh written: %s (or move the limits deliberately with --max-dofs N and "
+            "--min-contact-quality Q)" % "; and ".join(causes)
+        )
+
+
 def parse_rotation(text):
     """--rotation: nine numbers, the rows of R (x_ours = R x_file), which
     must be a rotation (orthonormal to 1e-4, determinant +1)."""
@@ -1018,6 +1170,41 @@ def main(argv=None):
         default="auto",
         help="auto (default): swept insert where possible, contact layer otherwise; "
         "layer: contact layer on both bodies; split: tetrahedra split into hexahedra",
+    )
+    ap.add_argument(
+        "--femur-mesh",
+        choices=("shell", "layer", "split"),
+        help="the femoral component: shell (default with --method auto): hexahedra extruded inward "
+        "from its articular surface only (--shell-*), the inner face clamped as femur_fixation; "
+        "layer: the whole component, a contact layer and a tetrahedral core (default with --method "
+        "layer); split: the whole component as tetrahedra split into hexahedra (default with --method split)",
+    )
+    ap.add_argument(
+        "--shell-thickness",
+        type=float,
+        default=3.0,
+        help="shell: depth of the femoral shell under its articular surface, mm (thinner where the "
+        "surface's radius of curvature is smaller)",
+    )
+    ap.add_argument("--shell-layers", type=int, default=3, help="shell: cell layers through the shell")
+    ap.add_argument(
+        "--shell-ratio",
+        type=float,
+        default=1.5,
+        help="shell: thickness ratio of consecutive cell layers (thinnest at the surface)",
+    )
+    ap.add_argument(
+        "--max-dofs",
+        type=int,
+        default=200000,
+        help="refuse (write nothing) a mesh of more Q1 displacement DoFs than this",
+    )
+    ap.add_argument(
+        "--min-contact-quality",
+        type=float,
+        default=0.1,
+        help="refuse (write nothing) a mesh with a contact cell (a hexahedron with a face on "
+        "femur_contact or tibia_contact) of smaller scaled corner Jacobian",
     )
     ap.add_argument(
         "--size",
@@ -1144,6 +1331,8 @@ def main(argv=None):
             )
     if args.contact_size is None:
         args.contact_size = 4.0 if args.method == "split" else 3.0
+    if args.femur_mesh is None:
+        args.femur_mesh = {"auto": "shell", "layer": "layer", "split": "split"}[args.method]
 
     inputs = (args.femur, args.insert)
     gmsh.initialize(["gmsh", "-v", "1"])
@@ -1153,15 +1342,25 @@ def main(argv=None):
             surface_log, methods = [], {}
             if stl_remesh:
                 prepare_surfaces(args, tmpdir, surface_log)
-            if args.method == "split":
+            if args.method == "split" and args.femur_mesh == "split":
                 fem = mesh_body_robust("femur", args.femur, args, tmpdir)
                 tib = mesh_body_robust("tibia", args.insert, args, tmpdir)
                 methods = {"femur": "split tetrahedra", "tibia": "split tetrahedra"}
             else:
                 parts = [Part("femur", args.femur, args, tmpdir), Part("tibia", args.insert, args, tmpdir)]
                 near = [p.articular_points(1.5) for p in parts]
-                fem, methods["femur"] = mesh_part_robust(parts[0], args, tmpdir, near[1])
-                tib, methods["tibia"] = mesh_part_robust(parts[1], args, tmpdir, near[0])
+                if args.femur_mesh == "split":
+                    gmsh.model.setCurrent("femur")
+                    fem = mesh_body("femur", args.femur, args, tmpdir, linear=True, part=parts[0])
+                    methods["femur"] = "split tetrahedra (straight-sided)"
+                else:
+                    fem, methods["femur"] = mesh_part_robust(parts[0], args, tmpdir, near[1])
+                if args.method == "split":
+                    gmsh.model.setCurrent("tibia")
+                    tib = mesh_body("tibia", args.insert, args, tmpdir, linear=True, part=parts[1])
+                    methods["tibia"] = "split tetrahedra (straight-sided)"
+                else:
+                    tib, methods["tibia"] = mesh_part_robust(parts[1], args, tmpdir, near[0])
     finally:
         gmsh.finalize()
     report = (
@@ -1206,6 +1405,7 @@ def main(argv=None):
         fem = (fn, fem[1], fem[2])
         say("femur moved along z by %+.4f mm to an initial gap of %g mm" % (args.gap - g0, args.gap))
     say("smallest vertical gap between the articular surfaces: %.4f mm" % min_vertical_gap(fem, tib))
+    refuse_impractical({"femur": fem, "tibia": tib}, methods, args)
     blockmesh.write_msh(args.output, {"femur": fem, "tibia": tib}, "mesh-implant")
     s = blockmesh.summary({"femur": fem, "tibia": tib})
     for b in ("femur", "tibia"):

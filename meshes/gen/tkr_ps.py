@@ -394,6 +394,7 @@ def femur_contact_without_cam(step):
     g = Geometry()
     args = argparse.Namespace(
         units="mm",
+        rotation=None,
         feature_angle=40.0,
         size=8.0,
         femur_contact_faces=None,
@@ -423,6 +424,10 @@ def femur_contact_without_cam(step):
 
 
 COARSE = [
+    # the whole component with a contact layer, as when tkr-c-coarse.msh was
+    # made (mesh-implant's default is now the articular shell)
+    "--femur-mesh",
+    "layer",
     "--contact-size",
     "5",
     "--size",
