@@ -6,14 +6,17 @@ tibial insert given as STEP (or IGES/BREP) files or closed STL surfaces.
 
 Each body is meshed on its own; the two never share nodes.  --method:
 
-  auto (default)   the insert, if it is a flat base with vertical side walls
-                   and an articular top that is a height field over the base
-                   (most fixed-bearing inserts; on an STL the base may have
-                   a locking recess, whose floor the columns stand on), as
-                   structured columns under an O-grid of square cells
-                   (--sweep-size) in plan (insert_sweep.py); otherwise as
-                   "layer".  The femoral component as its articular shell
-                   (--femur-mesh below).
+  auto (default)   the insert swept from its articular surface: structured
+                   columns under an O-grid of square cells (--sweep-size)
+                   in plan, from the flat seat up to the top, a height
+                   field over its outline, whatever the walls do (draft,
+                   rounded rims, a locking recess: approximated, the volume
+                   reported; a post kept if it sweeps fit for contact, else
+                   left out where the femur never comes within
+                   --contact-distance of it over -5..60 deg of flexion, else
+                   refused; insert_sweep.py); if it has no flat seat or no
+                   top, as "layer".  The femoral component as its articular
+                   shell (--femur-mesh below).
   layer            a layer of prisms under the articular faces (--layers,
                    --layer-thickness, --layer-ratio) and tetrahedra inside,
                    each prism split into three hexahedra, each tetrahedron
@@ -766,17 +769,37 @@ class Part:
             gmsh.model.mesh.clear()
         return np.concatenate(pts)
 
+    def surface_triangles(self, spacing):
+        """The body's boundary as outward triangles (T x 3 x 3): an STL's
+        own, a CAD body's triangulated at `spacing` mm."""
+        if not self.cad:
+            T = self.tris
+            if np.einsum("ij,ij->i", T[:, 0], np.cross(T[:, 1], T[:, 2])).sum() < 0:
+                T = T[:, ::-1]
+            return T
+        gmsh.model.setCurrent(self.role)
+        generate_plain(2, spacing)
+        faces = insert_sweep.boundary_triangles(self.vol)
+        gmsh.model.mesh.clear()
+        return np.concatenate([insert_sweep.outward(P, n) for P, n in faces.values()])
+
     def mesh(self, args, near):
         """Pass 2: the hexahedral mesh (nodes, hexes, surfaces).  near:
         points on the other body's articular faces (for the sizes)."""
         gmsh.model.setCurrent(self.role)
         if self.role == "tibia" and args.method == "auto":
-            # structured columns under a plan grid (insert_sweep.py)
+            # structured columns under a plan grid (insert_sweep.py); a post
+            # the sweep cannot mesh is left out where the femur (its surface
+            # in self.femur, set by main()) never reaches it
             try:
                 if self.cad:
                     generate_plain(2, args.sweep_size)
-                fine = None if self.fine_faces is None else np.concatenate(list(self.fine_faces.values()))
+                fine = self.fine_faces
                 smooth = next(iter(self.smooth.values()), None)
+                import surface_tags
+
+                femur = getattr(self, "femur", None)
+                log = []
                 out = insert_sweep.mesh_insert(
                     self.vol,
                     self.groups,
@@ -786,9 +809,15 @@ class Part:
                     self.cad,
                     fine,
                     smooth,
+                    clearance=None if femur is None else lambda P, ins: surface_tags.approach(femur, ins, P),
+                    contact_distance=args.contact_distance,
+                    log=log,
                 )
                 self.method = "swept columns"
+                self.log = log
                 return out
+            except insert_sweep.Refused as e:
+                raise SystemExit("error: %s" % e)
             except insert_sweep.NotSweepable as e:
                 print("note: the insert cannot be swept (%s); it gets a contact layer instead" % e)
                 self.notes.append("not swept: %s" % e)
@@ -1271,7 +1300,8 @@ def main(argv=None):
         type=float,
         default=3.0,
         help="STL, remesh: the contact groups are the triangles that come within this distance "
-        "(mm) of the other body over the flexion range",
+        "(mm) of the other body over the flexion range; auto: a post of the insert that the sweep "
+        "cannot mesh is left out if the femur stays farther than this from it (else refused)",
     )
     ap.add_argument(
         "--smooth-radius",
@@ -1339,7 +1369,7 @@ def main(argv=None):
     try:
         with tempfile.TemporaryDirectory() as tmpdir:
             check_frame(args)
-            surface_log, methods = [], {}
+            surface_log, methods, sweep_log = [], {}, []
             if stl_remesh:
                 prepare_surfaces(args, tmpdir, surface_log)
             if args.method == "split" and args.femur_mesh == "split":
@@ -1349,6 +1379,8 @@ def main(argv=None):
             else:
                 parts = [Part("femur", args.femur, args, tmpdir), Part("tibia", args.insert, args, tmpdir)]
                 near = [p.articular_points(1.5) for p in parts]
+                if args.method == "auto":
+                    parts[1].femur = parts[0].surface_triangles(1.5)  # a post's clearance (insert_sweep)
                 if args.femur_mesh == "split":
                     gmsh.model.setCurrent("femur")
                     fem = mesh_body("femur", args.femur, args, tmpdir, linear=True, part=parts[0])
@@ -1361,6 +1393,7 @@ def main(argv=None):
                     methods["tibia"] = "split tetrahedra (straight-sided)"
                 else:
                     tib, methods["tibia"] = mesh_part_robust(parts[1], args, tmpdir, near[0])
+                sweep_log = getattr(parts[1], "log", [])
     finally:
         gmsh.finalize()
     report = (
@@ -1379,6 +1412,7 @@ def main(argv=None):
         ]
         + surface_log
         + [""] * bool(surface_log)
+        + sweep_log
     )
 
     def say(line):

@@ -100,6 +100,56 @@ def proximity(fem_tris, ins_tris, distance, point):
     return fem_near, ins_near
 
 
+def approach(fem_tris, ins_tris, points, point=None, exact=10.0):
+    """How near the femur comes to given points on the insert over the
+    poses of proximity() (turned about its flexion axis through `point`,
+    estimated if None, by FLEXION, and lowered onto the insert's upward
+    triangles): the smallest distance of each point from the femur's
+    triangles in any pose (from their samples() where those are farther
+    than `exact` mm), and the flexion (deg) of that pose.  A part of the
+    insert all of whose points stay farther than the contact distance is
+    no tibia_contact in any pose, whatever it faces: insert_sweep.py leaves
+    a post that it cannot mesh out only then."""
+    from scipy.spatial import cKDTree
+
+    import contact_layer
+
+    if point is None:
+        point = flexion_point(fem_tris)
+    fc, fn = normals(fem_tris)
+    ic, inn = normals(ins_tris)
+    up = inn[:, 2] > 0.3
+    ins_plan = cKDTree(ic[up][:, :2])
+    fs = samples(fem_tris)
+    points = np.asarray(points, float).reshape(-1, 3)
+    best, at = np.full(len(points), np.inf), np.full(len(points), np.nan)
+    for angle in FLEXION:
+        c = turned(fc, angle, point)
+        n = turned(fn, angle, np.zeros(3))
+        down = n[:, 2] < -0.3
+        d, i = ins_plan.query(c[down][:, :2])
+        close = d < 1.5
+        if not close.any():
+            continue
+        lift = (c[down][close, 2] - ic[up][i[close], 2]).min()
+        s = turned(fs, angle, point)
+        s[:, 2] -= lift
+        d, _ = cKDTree(s).query(points)
+        near = d < exact
+        if near.any():
+            # the distance to the femur's triangles, not to their samples
+            F = turned(fem_tris.reshape(-1, 3), angle, point).reshape(-1, 3, 3)
+            F[..., 2] -= lift
+            _, k = cKDTree(F.mean(axis=1)).query(points[near], k=min(16, len(F)))
+            q = np.array(
+                [contact_layer.closest_on_triangles(p[None], F[i])[0] for p, i in zip(points[near], k)]
+            )
+            d[near] = np.minimum(d[near], np.linalg.norm(q - points[near], axis=1))
+        nearer = d < best
+        best[nearer], at[nearer] = d[nearer], angle
+    return best, at
+
+
 def near_patch(tris, patch, tol):
     """Triangles whose centroid is within tol of the patch surface (sampled)."""
     d, _ = cKDTree(samples(patch)).query(tris.mean(axis=1))
