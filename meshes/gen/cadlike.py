@@ -31,14 +31,16 @@ asym (R_MEDIAL, R_LATERAL)
     same height, so that both touch the insert: the distal arcs' centres
     are R_LATERAL - R_MEDIAL apart in height (the real implant: 30.0 mm at
     z 36.0 and 36.1 mm at z 42.2).  Each condyle gets its own J-curve
-    (tkr.Geometry with its own R_d, th_0 and y_dish) that shares the
-    anterior flange and anterior arc (centre and radius) with the other:
-    the medial one keeps the design's th_0, the lateral one's th_0 is
-    chosen so that its distal arc is tangent to the same anterior arc with
-    its lowest point at the same height (cos th_0' = 1 - (R_m - R_a)(1 -
-    cos th_0) / (R_l - R_a)); its lowest point then lies a little
-    posterior.  The bridged part (anterior of theta_notch) is therefore
-    common and the condyles differ behind it.  The insert's dishes follow:
+    (tkr.Geometry with its own R_d, th_0 and y_dish) that keeps the
+    design's anterior flange and anterior arc (centre C_a and radius R_a):
+    its distal arc is tangent to that arc, with its lowest point at the
+    design's height, where th_0' solves (R_d' - R_a)(1 - cos th_0') =
+    (R_d - R_a)(1 - cos th_0); the smaller the radius, the further anterior
+    the lowest point (on C: medial 2.2 mm, lateral 0.7 mm anterior of the
+    design's).  The bridged part (anterior of theta_notch), and so its
+    clearance from C's post, is the design's; the condyles differ behind
+    it (a first version that kept the medial th_0 moved the anterior arc
+    3.4 mm back, into C's post).  The insert's dishes follow:
     each dish bottom under its condyle's lowest point, its sagittal radius
     scaled to keep the design's conformity R_d / R_ts.  Medial is +x
     (tkr-wear's default Medial side).
@@ -125,17 +127,15 @@ class Pair:
             g = tkr.Geometry(design, p)
             self.side = {+1: g, -1: g}
         else:
-            r_med, r_lat = asym
-            th0 = p["th_0"] * DEG
-            # the lateral distal arc tangent to the medial one's anterior arc, its lowest point as low
-            cos_l = 1.0 - (r_med - p["R_a"]) * (1.0 - math.cos(th0)) / (r_lat - p["R_a"])
-            th0_l = -math.acos(cos_l)
-            y_l = p["y_dish"] - (r_med - p["R_a"]) * math.sin(th0) + (r_lat - p["R_a"]) * math.sin(th0_l)
-            self.side[+1] = tkr.Geometry(design, dict(p, R_d=r_med))
-            self.side[-1] = tkr.Geometry(design, dict(p, R_d=r_lat, th_0=th0_l / DEG, y_dish=y_l))
-            a, b = self.side[+1], self.side[-1]
-            assert np.allclose(a.C_a, b.C_a) and np.allclose(a.F_top, b.F_top)
-            assert abs(a.s_notch - b.s_notch) < 1e-9
+            # both distal arcs tangent to the design's anterior arc (so the flange, the bridge and
+            # their clearance from C's post are the design's), their lowest points at its height
+            base = tkr.Geometry(design, p)
+            rise = (base.R_d - base.R_a) * (1.0 - math.cos(base.th["th_0"]))
+            for side, r_d in ((+1, asym[0]), (-1, asym[1])):
+                th0 = -math.acos(1.0 - rise / (r_d - base.R_a))
+                y = base.C_a[0] + (r_d - base.R_a) * math.sin(th0)
+                self.side[side] = tkr.Geometry(design, dict(p, R_d=r_d, th_0=th0 / DEG, y_dish=y))
+                assert np.allclose(self.side[side].C_a, base.C_a) and th0 > base.th["th_notch"]
         g = self.side[+1]
         self.H = g.H
         self.name = design
@@ -301,6 +301,28 @@ def build_insert(pair):
         vol = [t for d, t in out if d == 3]
     assert len(vol) == 1, "the insert is not one solid"
     return vol[0]
+
+
+def interference(pair):
+    """Where the CAD solids of the femur and the insert overlap:
+    [(volume mm^3, centre of mass)] of their common parts (OpenCASCADE).
+    With an overlap, one part under each condyle; anything else (C's post
+    against the bridge or the cam) is a wrong assembly."""
+    import gmsh
+
+    gmsh.initialize(["gmsh", "-v", "0"])
+    try:
+        gmsh.model.add("both")
+        f, i = build_femur(pair), build_insert(pair)
+        out, _ = gmsh.model.occ.intersect([(3, f)], [(3, i)])
+        gmsh.model.occ.synchronize()
+        return [
+            (gmsh.model.occ.getMass(d, t), np.array(gmsh.model.occ.getCenterOfMass(d, t)))
+            for d, t in out
+            if d == 3
+        ]
+    finally:
+        gmsh.finalize()
 
 
 def chordal_triangles(deviation, h_max=H_MAX):
@@ -665,6 +687,11 @@ def make(name, outdir, coarse=False):
         write_stl_binary(path, X[T])
         paths.append(path)
         lines.append("%s: %s" % (part, made))
+    common = interference(pair)
+    lines.append(
+        "CAD solids in common: %s"
+        % ("; ".join("%.3f mm^3 at (%.1f, %.1f, %.2f)" % ((v,) + tuple(c)) for v, c in common) or "none")
+    )
     f, more = features(pair, *paths)
     with open(os.path.join(outdir, name + ".txt"), "w") as out:
         out.write("\n".join(lines + more) + "\n")

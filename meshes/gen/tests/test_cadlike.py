@@ -59,6 +59,18 @@ def test_real_like_has_all_the_features(tmp):
     assert f["femur_aspect"].max() <= 100.0 * 1.01
 
 
+def test_only_the_condyles_overlap():
+    """real-like's CAD solids have a common part under each condyle only
+    (the 0.05 mm overlap), none at C's post (the bridge, the cam)."""
+    pair = cadlike.Pair(**cadlike.INPUTS["real-like"])
+    common = cadlike.interference(pair)
+    assert len(common) == 2
+    for v, c in common:
+        assert min(np.linalg.norm(c[:2] - pair.lowest(side)[:2]) for side in (1, -1)) < 3.0
+        assert c[2] == pytest.approx(pair.lowest(1)[2], abs=0.5)
+        assert v < 2.0
+
+
 def test_draft_the_other_way_and_fillets_kept(tmp):
     """draft-in-b: the wall normals 15 deg above the horizontal (base wider
     than top); its femur keeps tkr.py's edge fillets (the normals turn by
