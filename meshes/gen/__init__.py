@@ -9,9 +9,10 @@ Importing the package puts this directory on sys.path, so that those
 imports also resolve for `import gen.surface_tags` (with meshes/ on the
 path).  The unit tests are in tests/ (README.md, "Python").
 
-Modules: blockmesh, check_msh, contact_layer, femur_shell, flexion_axis, generate,
-gmsh_hexes, images, insert_sweep, mesh_implant, rounded, scanlike,
-surface_tags, tkr, tkr_ps, tkr_variant, unstructured, verification.
+Modules: blockmesh, cadlike, check_msh, contact_layer, femur_shell,
+flexion_axis, generate, gmsh_hexes, images, insert_sweep, mesh_implant,
+rounded, scanlike, surface_tags, tkr, tkr_ps, tkr_variant, unstructured,
+verification.
 """
 import os
 import sys
