@@ -691,7 +691,7 @@ def describe_walls(nz, area):
     d = np.degrees(np.arcsin(np.clip(nz, -1, 1)))
     lo, med, hi = weighted_quantiles(d, area, [0.05, 0.5, 0.95])
     return (
-        "draft %+.1f deg (+: the seat wider than the top; the area-weighted median over %.0f mm^2 of "
+        "draft %+.1f deg (+: outward normals up, wider below; the area-weighted median over %.0f mm^2 of "
         "walls, 5-95 %%: %+.1f..%+.1f deg)" % (med, area.sum(), lo, hi)
     )
 

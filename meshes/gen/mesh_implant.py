@@ -770,8 +770,12 @@ class Part:
         return np.concatenate(pts)
 
     def surface_triangles(self, spacing):
-        """The body's boundary as outward triangles (T x 3 x 3): an STL's
-        own, a CAD body's triangulated at `spacing` mm."""
+        """The body's boundary as outward triangles (T x 3 x 3): a repaired
+        STL surface's (--surface-size; the one remeshed for the mesh is
+        coarser, 3-4 mm), an STL's own, a CAD body's triangulated at
+        `spacing` mm."""
+        if self.fine_faces is not None:
+            return np.concatenate(list(self.fine_faces.values()))
         if not self.cad:
             T = self.tris
             if np.einsum("ij,ij->i", T[:, 0], np.cross(T[:, 1], T[:, 2])).sum() < 0:
