@@ -39,7 +39,8 @@
 # WORKDIR (their exit codes unknown: taken as 0 where summary.json exists).
 # Needs the Release build in build/release (tkr-wear, tkr-surface), or
 # TKR_BUILD set to another build directory. About 30 min on 2 cores with
-# --jobs 2 for the scan-like set (--long: 5e6 cycles add some 10 min);
+# --jobs 2 for the scan-like set (--long: 5e6 cycles add some 10 min); the
+# cadlike inputs add 1.5-6 min each to make and mesh and 4-16 min a cycle;
 # doc/robustness.md has the last results.
 set -uo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)

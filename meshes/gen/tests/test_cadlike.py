@@ -130,7 +130,8 @@ def test_decimate_keeps_a_closed_manifold_on_the_surface():
     assert np.allclose(np.linalg.norm(Y, axis=1), 10.0)
 
 
-def test_check_closed_refuses_a_hole(tmp):
+def test_check_closed_refuses_a_hole():
+    """A surface with a triangle missing is refused (the check the inputs pass)."""
     X, T = sphere()
     with pytest.raises(SystemExit, match="not closed"):
         cadlike.check_closed(X, T[1:])
