@@ -1442,6 +1442,14 @@ def main(argv=None):
         fn[:, 2] += args.gap - g0
         fem = (fn, fem[1], fem[2])
         say("femur moved along z by %+.4f mm to an initial gap of %g mm" % (args.gap - g0, args.gap))
+        if args.gap - g0 > 0.5:
+            # More than facets explain (tkr-wear's Gait/Largest initial overlap, 0.5 mm): the
+            # input bodies intersect, e.g. the femur's box in the insert's post.
+            say(
+                "warning: the femur was lifted by %.2f mm off the insert: the input bodies intersect "
+                "by more than their facets explain (0.5 mm); check the assembly (doc/robustness.md)"
+                % (args.gap - g0)
+            )
     say("smallest vertical gap between the articular surfaces: %.4f mm" % min_vertical_gap(fem, tib))
     refuse_impractical({"femur": fem, "tibia": tib}, methods, args)
     blockmesh.write_msh(args.output, {"femur": fem, "tibia": tib}, "mesh-implant")
