@@ -124,13 +124,11 @@ def width_caps():
     return caps
 
 
-def triangulate_boundary(vol, groups, size_field, size):
-    """Triangulate the boundary of volume `vol` of the current gmsh model
-    (Frontal-Delaunay, sizes from size_field, a SizeField).
-    Returns X (nodes, N x 3), tris (M x 3, outward), face (M, CAD face of each
-    triangle), ent (N x 2: dim and tag of the CAD entity of each node) and
-    curve_edges ({frozenset of two nodes: CAD curve} for the mesh edges on
-    CAD curves)."""
+def surface_mesh_options(size_field, size):
+    """gmsh's options for a triangulation of the boundary (Frontal-Delaunay)
+    whose sizes come from size_field (a SizeField, as gmsh's size callback)
+    alone, at most `size`, without subdivision; the callback stays set until
+    gmsh.model.mesh.removeSizeCallback()."""
     gmsh.model.mesh.setSizeCallback(size_field)
     gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
     gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
@@ -139,6 +137,16 @@ def triangulate_boundary(vol, groups, size_field, size):
     gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
     gmsh.option.setNumber("Mesh.Algorithm", 6)
     gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 0)
+
+
+def triangulate_boundary(vol, groups, size_field, size):
+    """Triangulate the boundary of volume `vol` of the current gmsh model
+    (Frontal-Delaunay, sizes from size_field, a SizeField).
+    Returns X (nodes, N x 3), tris (M x 3, outward), face (M, CAD face of each
+    triangle), ent (N x 2: dim and tag of the CAD entity of each node) and
+    curve_edges ({frozenset of two nodes: CAD curve} for the mesh edges on
+    CAD curves)."""
+    surface_mesh_options(size_field, size)
     try:
         gmsh.model.mesh.generate(2)
     finally:

@@ -58,6 +58,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 import blockmesh
+import contact_layer
 
 import gmsh
 
@@ -98,14 +99,7 @@ def triangulate_faces(faces, outward, size_field, size):
     normal would not do: a cam's cylinder has almost none).  Returns X,
     tris, face, curve_edges as contact_layer.triangulate_boundary() (no
     CAD entity per node)."""
-    gmsh.model.mesh.setSizeCallback(size_field)
-    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
-    gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
-    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
-    gmsh.option.setNumber("Mesh.MeshSizeMax", size)
-    gmsh.option.setNumber("Mesh.MeshSizeMin", 0.0)
-    gmsh.option.setNumber("Mesh.Algorithm", 6)
-    gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 0)
+    contact_layer.surface_mesh_options(size_field, size)
     gmsh.model.mesh.clear()
     try:
         with visible_only(faces):

@@ -70,6 +70,23 @@ def flexion_point(fem_tris):
     return np.array(flexion_axis.estimate(pts)["point"])
 
 
+def lowered_poses(fc, fn, ic, up, point):
+    """The femur's poses of proximity() and approach(): for each flexion of
+    FLEXION, the femur triangles' centres fc (normals fn) turned about the
+    axis through `point`, which of them face down, and the lift (mm) that
+    lowers the femur onto the insert's upward triangles (centres ic[up])
+    where they face each other in plan (within 1.5 mm); a pose without such
+    a pair is left out.  Yields (angle, turned centres, down, lift)."""
+    ins_plan = cKDTree(ic[up][:, :2])
+    for angle in FLEXION:
+        c = turned(fc, angle, point)
+        down = turned(fn, angle, np.zeros(3))[:, 2] < -0.3
+        d, i = ins_plan.query(c[down][:, :2])
+        close = d < 1.5
+        if close.any():
+            yield angle, c, down, (c[down][close, 2] - ic[up][i[close], 2]).min()
+
+
 def proximity(fem_tris, ins_tris, distance, point):
     """Boolean masks: femur triangles facing and within `distance` of the
     insert, insert triangles within `distance` of the femur, over the
@@ -79,17 +96,8 @@ def proximity(fem_tris, ins_tris, distance, point):
     fs = np.concatenate([fem_tris.reshape(-1, 3), fc])
     up = inn[:, 2] > 0.3
     ins_tree = cKDTree(np.concatenate([ins_tris.reshape(-1, 3), ic]))
-    ins_plan = cKDTree(ic[up][:, :2])
     fem_near, ins_near = np.zeros(len(fc), bool), np.zeros(len(ic), bool)
-    for angle in FLEXION:
-        c = turned(fc, angle, point)
-        n = turned(fn, angle, np.zeros(3))
-        down = n[:, 2] < -0.3
-        d, i = ins_plan.query(c[down][:, :2])
-        close = d < 1.5
-        if not close.any():
-            continue
-        lift = (c[down][close, 2] - ic[up][i[close], 2]).min()
+    for angle, c, down, lift in lowered_poses(fc, fn, ic, up, point):
         c[:, 2] -= lift
         d, _ = ins_tree.query(c, distance_upper_bound=distance)
         fem_near |= (d < distance) & down
@@ -119,19 +127,10 @@ def approach(fem_tris, ins_tris, points, point=None, exact=10.0):
     fc, fn = normals(fem_tris)
     ic, inn = normals(ins_tris)
     up = inn[:, 2] > 0.3
-    ins_plan = cKDTree(ic[up][:, :2])
     fs = samples(fem_tris)
     points = np.asarray(points, float).reshape(-1, 3)
     best, at = np.full(len(points), np.inf), np.full(len(points), np.nan)
-    for angle in FLEXION:
-        c = turned(fc, angle, point)
-        n = turned(fn, angle, np.zeros(3))
-        down = n[:, 2] < -0.3
-        d, i = ins_plan.query(c[down][:, :2])
-        close = d < 1.5
-        if not close.any():
-            continue
-        lift = (c[down][close, 2] - ic[up][i[close], 2]).min()
+    for angle, _, _, lift in lowered_poses(fc, fn, ic, up, point):
         s = turned(fs, angle, point)
         s[:, 2] -= lift
         d, _ = cKDTree(s).query(points)
