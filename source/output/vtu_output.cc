@@ -21,10 +21,13 @@ namespace TKR::Output
   {}
 
   void
-  VtuSeries::write(const DataOut<3>  &data_out,
+  VtuSeries::write(DataOut<3>        &data_out,
                    const unsigned int index,
                    const double       time)
   {
+    DataOutBase::VtkFlags flags;
+    flags.compression_level = DataOutBase::VtkFlags::best_speed;
+    data_out.set_flags(flags);
     const std::string pvtu =
       data_out.write_vtu_with_pvtu_record(directory + "/",
                                           name,

@@ -40,12 +40,14 @@ namespace TKR::Output
 
     /**
      * Write the patches of @p data_out (build_patches() already called) as
-     * output number @p index at time (or step, cycle) @p time.
+     * output number @p index at time (or step, cycle) @p time, compressed
+     * by zlib's fastest level (deal.II's default, its best compression,
+     * took most of the output's time; doc/performance.md).
      */
     void
-    write(const dealii::DataOut<3> &data_out,
-          const unsigned int        index,
-          const double              time);
+    write(dealii::DataOut<3> &data_out,
+          const unsigned int  index,
+          const double        time);
 
     /**
      * Collect the outputs written by all groups and write the `.pvd`
