@@ -145,7 +145,10 @@ namespace TKR::Contact
                                   ContactState              &state)
   {
     std::vector<double> u0, u0_observations;
-    combine_basis(coefficients, u0, u0_observations);
+    {
+      TimerOutput::Scope scope(timer, "contact zone");
+      combine_basis(coefficients, u0, u0_observations);
+    }
     ContactStatistics statistics =
       iterate(u0, u0_observations, initial_distance, state);
     statistics.relative_residual = basis_residual;
@@ -298,15 +301,14 @@ namespace TKR::Contact
                                     const double               initial_distance,
                                     ContactState              &state)
   {
-    const Mortar::MortarOperator B(coupling);
+    const Mortar::MortarOperator B = mortar_operator();
     std::vector<Column>          z(coupling.slave_nodes().size());
-    return iterate(B,
-                   make_zone(B, u0),
-                   z,
-                   u0,
-                   u0_observations,
-                   initial_distance,
-                   state);
+    Zone                         zone;
+    {
+      TimerOutput::Scope scope(timer, "contact zone");
+      zone = make_zone(B, u0);
+    }
+    return iterate(B, zone, z, u0, u0_observations, initial_distance, state);
   }
 
   ContactStatistics
@@ -333,15 +335,15 @@ namespace TKR::Contact
           if (state.active[j])
             active.push_back(j);
         ensure_columns(B, active);
+        unsigned int n_changed = 0;
         {
           TimerOutput::Scope scope(timer, "condensed Newton step");
           for (const unsigned int i : active)
             if (z[i].surface.empty())
               z[i] = zone_column(B, zone, i);
           newton_step(zone, active, z, state);
+          n_changed = active_set_update.count_changes(coupling, state);
         }
-        const unsigned int n_changed =
-          active_set_update.count_changes(coupling, state);
         trace << "    active set iteration " << std::setw(2) << iteration
               << ": " << std::setw(6) << active.size() << " active, "
               << std::setw(5) << n_changed << " changed" << std::endl;
@@ -352,7 +354,10 @@ namespace TKR::Contact
           }
         active_set_update.update(coupling, state);
       }
-    finish_state(B, u0, u0_observations, state);
+    {
+      TimerOutput::Scope scope(timer, "contact zone");
+      finish_state(B, u0, u0_observations, state);
+    }
     last_state                  = state;
     statistics.computed_columns = n_stored_columns - n_columns_before;
     add_contact_results(coupling, state, statistics);

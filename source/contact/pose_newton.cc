@@ -65,7 +65,8 @@ namespace TKR::Contact
   CondensedActiveSetSolver::make_pose_point(const PoseSystem          &system,
                                             const std::vector<double> &q)
   {
-    PosePoint point;
+    TimerOutput::Scope scope(timer, "contact zone");
+    PosePoint          point;
     point.q            = q;
     point.coefficients = system.load_coefficients(q);
     combine_basis(point.coefficients, point.u0, point.u0_observations);
@@ -83,7 +84,7 @@ namespace TKR::Contact
                                           PosePoint        &point,
                                           ContactState     &state)
   {
-    const Mortar::MortarOperator B(coupling);
+    const Mortar::MortarOperator B          = mortar_operator();
     ContactStatistics            statistics = iterate(B,
                                            point.zone,
                                            point.z,
@@ -161,7 +162,7 @@ namespace TKR::Contact
                                                PosePoint        &point)
   {
     const auto                  &nodes = coupling.slave_nodes();
-    const Mortar::MortarOperator B(coupling);
+    const Mortar::MortarOperator B     = mortar_operator();
     std::vector<unsigned int>    active;
     for (unsigned int j = 0; j < nodes.size(); ++j)
       if (point.active[j])

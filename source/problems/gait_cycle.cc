@@ -515,9 +515,13 @@ namespace TKR::Problems
       {
         error = exception_message(exc);
       }
-    for (const std::string &message :
-         Utilities::MPI::all_gather(model.world(), error))
-      AssertThrow(message.empty(), ExcInputError(message));
+    {
+      // (where the step group that finished first waits for the others)
+      TimerOutput::Scope scope(model.timer(), "step groups' wait");
+      for (const std::string &message :
+           Utilities::MPI::all_gather(model.world(), error))
+        AssertThrow(message.empty(), ExcInputError(message));
+    }
     signal = Utilities::MPI::max(signal, model.world());
     AssertThrow(signal == 0, ExcStopped(signal_name(signal)));
     initial_overlap = Utilities::MPI::max(initial_overlap, model.world());

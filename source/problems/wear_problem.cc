@@ -384,14 +384,17 @@ namespace TKR::Problems
                              side(true, state.volume_medial),
                              side(false, state.volume_lateral),
                              activity_results()});
-    Output::write_wear_history(output.directory,
-                               state.history,
-                               activity_names(),
-                               output.testing,
-                               model.world());
-    report_progress(block_wall_time);
-    if (output.vtu_interval > 0 && groups.index == 0)
-      output_worn_tibia();
+    {
+      TimerOutput::Scope scope(model.timer(), "output");
+      Output::write_wear_history(output.directory,
+                                 state.history,
+                                 activity_names(),
+                                 output.testing,
+                                 model.world());
+      report_progress(block_wall_time);
+      if (output.vtu_interval > 0 && groups.index == 0)
+        output_worn_tibia();
+    }
     write_checkpoint_if_due();
   }
 
@@ -660,8 +663,11 @@ namespace TKR::Problems
         const bool first = (block == 1);
         const bool last  = state.cycles + state.cycles_per_block >= wear.cycles;
         solve_cycles(first, last);
-        compute_wear();
-        extrapolate();
+        {
+          TimerOutput::Scope scope(model.timer(), "wear");
+          compute_wear();
+          extrapolate();
+        }
         finish_block(block_timer.wall_time());
       }
     unsigned int window_misses = 0;

@@ -192,6 +192,17 @@ namespace TKR::Contact
     std::uint64_t
     master_fingerprint();
 
+    /**
+     * The mortar operator of the coupling (timed as part of the contact
+     * zone).
+     */
+    Mortar::MortarOperator
+    mortar_operator() const
+    {
+      dealii::TimerOutput::Scope scope(timer, "contact zone");
+      return Mortar::MortarOperator(coupling);
+    }
+
     /** Compute the columns of the surface nodes @p nodes (x, y, z each). */
     void
     compute_columns(const std::vector<unsigned int> &nodes);
