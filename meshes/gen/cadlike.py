@@ -282,10 +282,7 @@ def build_insert(pair):
     tori = []
     for side in (-1, +1):
         x, y, r_ts, r_tf = pair.dish(side)
-        t = occ.addTorus(0, 0, 0, r_ts - r_tf, r_tf)
-        occ.rotate([(3, t)], 0, 0, 0, 0, 1, 0, math.pi / 2)  # axis z -> x
-        occ.translate([(3, t)], x, y, pair.side[side].t_min + r_ts)
-        tori.append((3, t))
+        tori.append(tkr.occ_dish(x, y, pair.side[side].t_min + r_ts, r_ts, r_tf))
     out, _ = occ.cut(prism, tori)
     occ.synchronize()
     vol = [t for d, t in out if d == 3]

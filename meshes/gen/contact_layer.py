@@ -139,6 +139,21 @@ def surface_mesh_options(size_field, size):
     gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 0)
 
 
+def generate_surfaces(size_field, size):
+    """Triangulate the visible surfaces of the current gmsh model with
+    surface_mesh_options() (the size callback removed after); returns the
+    node coordinates indexed by gmsh's node tag (rows of unused tags zero)."""
+    surface_mesh_options(size_field, size)
+    try:
+        gmsh.model.mesh.generate(2)
+    finally:
+        gmsh.model.mesh.removeSizeCallback()
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    X = np.zeros((int(tags.max()) + 1, 3))
+    X[tags.astype(np.int64)] = coords.reshape(-1, 3)
+    return X
+
+
 def triangulate_boundary(vol, groups, size_field, size):
     """Triangulate the boundary of volume `vol` of the current gmsh model
     (Frontal-Delaunay, sizes from size_field, a SizeField).
@@ -146,15 +161,8 @@ def triangulate_boundary(vol, groups, size_field, size):
     triangle), ent (N x 2: dim and tag of the CAD entity of each node) and
     curve_edges ({frozenset of two nodes: CAD curve} for the mesh edges on
     CAD curves)."""
-    surface_mesh_options(size_field, size)
-    try:
-        gmsh.model.mesh.generate(2)
-    finally:
-        gmsh.model.mesh.removeSizeCallback()
-    tags, coords, _ = gmsh.model.mesh.getNodes()
-    n = int(tags.max()) + 1
-    X = np.zeros((n, 3))
-    X[tags.astype(np.int64)] = coords.reshape(-1, 3)
+    X = generate_surfaces(size_field, size)
+    n = len(X)
     ent = np.zeros((n, 2), np.int64)
     for dim in (0, 1, 2):
         for _, e in gmsh.model.getEntities(dim):

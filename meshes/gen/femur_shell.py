@@ -99,17 +99,10 @@ def triangulate_faces(faces, outward, size_field, size):
     normal would not do: a cam's cylinder has almost none).  Returns X,
     tris, face, curve_edges as contact_layer.triangulate_boundary() (no
     CAD entity per node)."""
-    contact_layer.surface_mesh_options(size_field, size)
     gmsh.model.mesh.clear()
-    try:
-        with visible_only(faces):
-            gmsh.model.mesh.generate(2)
-    finally:
-        gmsh.model.mesh.removeSizeCallback()
-    tags, coords, _ = gmsh.model.mesh.getNodes()
-    n = int(tags.max()) + 1
-    X = np.zeros((n, 3))
-    X[tags.astype(np.int64)] = coords.reshape(-1, 3)
+    with visible_only(faces):
+        X = contact_layer.generate_surfaces(size_field, size)
+    n = len(X)
     tris, face = [], []
     for s in faces:
         tri = []

@@ -541,16 +541,24 @@ def build_occ(g, which=("femur", "tibia")):
         rect = occ.addRectangle(-g.A, -g.B, 0, 2 * g.A, 2 * g.B, roundedRadius=g.r_corner)
         prism = occ.extrude([(2, rect)], 0, 0, g.H)
         prism = [dt for dt in prism if dt[0] == 3]
-        tori = []
-        for side in (-1, +1):
-            t = occ.addTorus(0, 0, 0, g.R_ts - g.R_tf, g.R_tf)
-            occ.rotate([(3, t)], 0, 0, 0, 0, 1, 0, math.pi / 2)  # axis z -> x
-            occ.translate([(3, t)], side * g.x_c, g.y_dish, g.z_axis)
-            tori.append((3, t))
+        tori = [occ_dish(side * g.x_c, g.y_dish, g.z_axis, g.R_ts, g.R_tf) for side in (-1, +1)]
         cut, _ = occ.cut(prism, tori)
         occ.synchronize()
         res["tibia"] = [t for d, t in cut if d == 3]
     return res
+
+
+def occ_dish(x, y, z, r_sagittal, r_frontal):
+    """A dish of the insert as an OpenCASCADE torus of the current model,
+    its axis along x through (x, y, z): the sagittal radius r_sagittal, the
+    frontal radius r_frontal. Returns its (dim, tag)."""
+    import gmsh
+
+    occ = gmsh.model.occ
+    t = occ.addTorus(0, 0, 0, r_sagittal - r_frontal, r_frontal)
+    occ.rotate([(3, t)], 0, 0, 0, 0, 1, 0, math.pi / 2)  # axis z -> x
+    occ.translate([(3, t)], x, y, z)
+    return (3, t)
 
 
 _VOL_CACHE = {}

@@ -103,12 +103,7 @@ def build(variant, draft=0.0, rim=0.0, recess=0.0, post_draft=None):
     w0, r0 = rounded_rectangle_wire(g, 0.0, offset)
     w1, r1 = rounded_rectangle_wire(g, g.H, 0.0)
     prism = loft([w0, w1], [r0, r1])
-    tori = []
-    for side in (-1, +1):
-        t = occ.addTorus(0, 0, 0, g.R_ts - g.R_tf, g.R_tf)
-        occ.rotate([(3, t)], 0, 0, 0, 0, 1, 0, math.pi / 2)  # axis z -> x
-        occ.translate([(3, t)], side * g.x_c, g.y_dish, g.z_axis)
-        tori.append((3, t))
+    tori = [tkr.occ_dish(side * g.x_c, g.y_dish, g.z_axis, g.R_ts, g.R_tf) for side in (-1, +1)]
     body, _ = occ.cut(prism, tori)
     occ.synchronize()
     if variant == "c":
