@@ -154,6 +154,24 @@ def generate_surfaces(size_field, size):
     return X
 
 
+def renumber_used(n, tris, curves):
+    """The nodes that the triangles `tris` use (of gmsh's node tags below n),
+    numbered from 0: returns used (their tags, increasing), renum (tag ->
+    number, -1 if unused) and curve_edges ({frozenset of two numbers:
+    curve} for the line elements of the gmsh curves `curves` between used
+    nodes)."""
+    used = np.unique(tris)
+    renum = -np.ones(n, np.int64)
+    renum[used] = np.arange(len(used))
+    curve_edges = {}
+    for c in curves:
+        for et, _, nt in zip(*gmsh.model.mesh.getElements(1, c)):
+            for a, b in np.array(nt, np.int64).reshape(-1, 2):
+                if renum[a] >= 0 and renum[b] >= 0:
+                    curve_edges[frozenset((renum[a], renum[b]))] = c
+    return used, renum, curve_edges
+
+
 def triangulate_boundary(vol, groups, size_field, size):
     """Triangulate the boundary of volume `vol` of the current gmsh model
     (Frontal-Delaunay, sizes from size_field, a SizeField).
@@ -178,16 +196,8 @@ def triangulate_boundary(vol, groups, size_field, size):
             tris.append(tri)
             face.append(np.full(len(tri), s))
     tris, face = np.concatenate(tris), np.concatenate(face)
-    used = np.unique(tris)
-    renum = -np.ones(n, np.int64)
-    renum[used] = np.arange(len(used))
+    used, renum, curve_edges = renumber_used(n, tris, [c for _, c in gmsh.model.getEntities(1)])
     X, ent, tris = X[used], ent[used], renum[tris]
-    curve_edges = {}
-    for _, c in gmsh.model.getEntities(1):
-        for et, _, nt in zip(*gmsh.model.mesh.getElements(1, c)):
-            for a, b in np.array(nt, np.int64).reshape(-1, 2):
-                if renum[a] >= 0 and renum[b] >= 0:
-                    curve_edges[frozenset((renum[a], renum[b]))] = c
     return X, orient_outward(X, tris), face, ent, curve_edges
 
 

@@ -102,7 +102,6 @@ def triangulate_faces(faces, outward, size_field, size):
     gmsh.model.mesh.clear()
     with visible_only(faces):
         X = contact_layer.generate_surfaces(size_field, size)
-    n = len(X)
     tris, face = [], []
     for s in faces:
         tri = []
@@ -123,15 +122,8 @@ def triangulate_faces(faces, outward, size_field, size):
         tris.append(tri)
         face.append(np.full(len(tri), s))
     tris, face = np.concatenate(tris), np.concatenate(face)
-    used = np.unique(tris)
-    renum = -np.ones(n, np.int64)
-    renum[used] = np.arange(len(used))
-    curve_edges = {}
-    for _, c in gmsh.model.getBoundary([(2, s) for s in faces], combined=False, oriented=False):
-        for et, _, nt in zip(*gmsh.model.mesh.getElements(1, abs(c))):
-            for a, b in np.array(nt, np.int64).reshape(-1, 2):
-                if renum[a] >= 0 and renum[b] >= 0:
-                    curve_edges[frozenset((renum[a], renum[b]))] = abs(c)
+    boundary = gmsh.model.getBoundary([(2, s) for s in faces], combined=False, oriented=False)
+    used, renum, curve_edges = contact_layer.renumber_used(len(X), tris, [abs(c) for _, c in boundary])
     return X[used], renum[tris], face, curve_edges
 
 
