@@ -85,14 +85,76 @@ namespace TKR::Elasticity
       MPI_Comm_size(MPI_COMM_WORLD, &n_ranks);
       return n_ranks;
     }
+    /**
+     * The block of each row of a symmetric matrix (row i's entries: the
+     * columns @p columns from @p first_entry[i] on, @p n_entries[i] of
+     * them): the connected components of its graph (union-find), the
+     * largest first; all but the seven largest form the eighth. -1 for a
+     * row with only its diagonal entry. @p n_blocks gets their number.
+     */
+    std::vector<int>
+    blocks_of_rows(const std::vector<int>         &n_entries,
+                   const std::vector<std::size_t> &first_entry,
+                   const std::vector<long long>   &columns,
+                   unsigned int                   &n_blocks)
+    {
+      const long long        n = n_entries.size();
+      std::vector<long long> parent(n);
+      const auto             root = [&parent](long long i) {
+        while (parent[i] != i)
+          i = parent[i] = parent[parent[i]];
+        return i;
+      };
+      for (long long i = 0; i < n; ++i)
+        parent[i] = i;
+      std::vector<bool> coupled(n, false);
+      for (long long i = 0; i < n; ++i)
+        for (int k = 0; k < n_entries[i]; ++k)
+          {
+            const long long j = columns[first_entry[i] + k];
+            if (j != i)
+              {
+                coupled[i] = coupled[j] = true;
+                const long long a = root(i), b = root(j);
+                if (a != b)
+                  parent[std::max(a, b)] = std::min(a, b);
+              }
+          }
+
+      // the components (by their root, the smallest row), largest first
+      std::vector<long long> size(n, 0), components;
+      for (long long i = 0; i < n; ++i)
+        if (coupled[i])
+          ++size[root(i)];
+      for (long long i = 0; i < n; ++i)
+        if (size[i] > 0)
+          components.push_back(i);
+      std::stable_sort(components.begin(),
+                       components.end(),
+                       [&size](const long long a, const long long b) {
+                         return size[a] > size[b];
+                       });
+      constexpr unsigned int max_blocks = 8;
+      std::vector<int>       block_of_root(n, -1);
+      for (unsigned int c = 0; c < components.size(); ++c)
+        block_of_root[components[c]] = std::min(c, max_blocks - 1);
+      n_blocks = std::min<std::size_t>(components.size(), max_blocks);
+
+      std::vector<int> block_of(n, -1);
+      for (long long i = 0; i < n; ++i)
+        if (coupled[i])
+          block_of[i] = block_of_root[root(i)];
+      return block_of;
+    }
   } // namespace
 
+  // One block of the matrix that no other row couples to (a body): its
+  // rows, its lower triangle as factorised (to recognise it again) and
   // CHOLMOD's objects, freed in the destructor: the workspace (common), the
   // factor L and the dense buffers that cholmod_l_solve2() reuses (it
   // reallocates them whenever the number of columns changes, so one set for
-  // single right-hand sides and one for batches). Also the layout of the
-  // rows over the ranks.
-  struct DirectSolver::Factorization
+  // single right-hand sides and one for batches).
+  struct DirectSolver::Block
   {
     struct SolveBuffers
     {
@@ -102,20 +164,13 @@ namespace TKR::Elasticity
     cholmod_common  common;
     cholmod_factor *L = nullptr;
     SolveBuffers    single, batch;
+    /** The global rows, increasing. */
+    std::vector<long long> rows;
+    /** The lower triangle (compressed columns, local indices). */
+    std::vector<Index>  column_start, row_index;
+    std::vector<double> values;
 
-    MPI_Comm     communicator = MPI_COMM_SELF;
-    unsigned int n_ranks = 1, rank = 0;
-    Index        n = 0;
-    /** Global row of every rank's local rows, rank after rank. */
-    std::vector<long long> all_rows;
-    /** Rows per rank and their offsets in all_rows. */
-    std::vector<int> row_counts, row_offsets;
-    /** BLAS threads for the factorisation and many right-hand sides. */
-    unsigned int blas_threads = 0;
-    /** All right-hand sides, n x m, column by column. */
-    std::vector<double> B_full;
-
-    Factorization()
+    Block()
     {
       cholmod_l_start(&common);
       // The errors become exceptions below; CHOLMOD prints nothing.
@@ -130,7 +185,7 @@ namespace TKR::Elasticity
       common.nmethods = 0;
     }
 
-    ~Factorization()
+    ~Block()
     {
       for (SolveBuffers *buffers : {&single, &batch})
         {
@@ -142,9 +197,59 @@ namespace TKR::Elasticity
       cholmod_l_finish(&common);
     }
 
-    Factorization(const Factorization &) = delete;
-    Factorization &
-    operator=(const Factorization &) = delete;
+    Block(const Block &) = delete;
+    Block &
+    operator=(const Block &) = delete;
+
+    /** The same rows and the same lower triangle as @p other. */
+    bool
+    same_matrix(const Block &other) const
+    {
+      return rows == other.rows && column_start == other.column_start &&
+             row_index == other.row_index && values == other.values;
+    }
+
+    /** Order and factorise the lower triangle; refuse a singular one. */
+    void
+    factorise();
+
+    /**
+     * Solve for the @p m columns of @p B (n_rows() x m, column-major);
+     * returns the solutions, in the same layout.
+     */
+    const double *
+    solve(const double *B, const Index m, const unsigned int blas_threads);
+
+    Index
+    n_rows() const
+    {
+      return rows.size();
+    }
+  };
+
+  // The blocks and the layout of the rows over the ranks.
+  struct DirectSolver::Factorization
+  {
+    std::vector<std::unique_ptr<Block>> blocks;
+    /** Rows that couple to no other row: their global index and diagonal. */
+    std::vector<long long> diagonal_rows;
+    std::vector<double>    diagonal_values;
+    /** How many blocks were kept from the previous factorisation. */
+    unsigned int n_kept = 0;
+
+    MPI_Comm     communicator = MPI_COMM_SELF;
+    unsigned int n_ranks = 1, rank = 0;
+    Index        n = 0;
+    /** Global row of every rank's local rows, rank after rank. */
+    std::vector<long long> all_rows;
+    /** Rows per rank and their offsets in all_rows. */
+    std::vector<int> row_counts, row_offsets;
+    /** BLAS threads for the factorisation and many right-hand sides. */
+    unsigned int blas_threads = 0;
+    /** All right-hand sides, n x m, column by column. */
+    std::vector<double> B_full;
+    /** This rank's solutions, n x (its columns), column by column. */
+    std::vector<double> X_mine;
 
     /** The upper triangles of all ranks' rows, on every rank. */
     struct Entries
@@ -160,20 +265,20 @@ namespace TKR::Elasticity
     Entries
     gather(const Epetra_CrsMatrix &K);
 
-    /** The lower triangle in CHOLMOD's compressed columns. */
-    std::unique_ptr<cholmod_sparse, std::function<void(cholmod_sparse *)>>
-    lower_triangle(const Entries &entries);
-
-    /** Order and factorise @p lower; refuse a singular matrix. */
+    /**
+     * Split the rows into the blocks that no entry couples (their lower
+     * triangles in CHOLMOD's compressed columns, rows sorted) and the rows
+     * with only a diagonal entry.
+     */
     void
-    factorise(cholmod_sparse *lower);
+    split(const Entries &entries);
 
     /** All right-hand sides of @p B into B_full, on every rank. */
     void
     gather_right_hand_sides(const Epetra_MultiVector &B);
 
-    /** Solve the columns [first, last) of B_full; the buffers used. */
-    SolveBuffers &
+    /** Solve the columns [first, last) of B_full into X_mine. */
+    void
     solve_columns(const Index first, const Index last);
   };
 
@@ -186,18 +291,32 @@ namespace TKR::Elasticity
   // Every rank sends the upper triangle of its rows (row i, columns
   // j >= i); read as columns, that is the lower triangle that CHOLMOD
   // stores for a symmetric matrix (stype = -1): column i holds the rows
-  // j >= i. All ranks gather all of it and factorise the whole matrix.
+  // j >= i. All ranks gather all of it, split it into the blocks that no
+  // entry couples (the bodies) and factorise each block, or keep its
+  // factor from the last call if the block is the same.
   void
   DirectSolver::factorize(const dealii::TrilinosWrappers::SparseMatrix &A)
   {
-    matrix = nullptr;
-    factorization.reset();
-    auto f          = std::make_unique<Factorization>();
-    f->blas_threads = blas_threads();
+    matrix                                  = nullptr;
+    std::unique_ptr<Factorization> previous = std::move(factorization);
+    auto                           f        = std::make_unique<Factorization>();
+    f->blas_threads                         = blas_threads();
     ScopedBlasThreads threads(f->blas_threads);
-    const auto        entries = f->gather(A.trilinos_matrix());
-    const auto        lower   = f->lower_triangle(entries);
-    f->factorise(lower.get());
+    f->split(f->gather(A.trilinos_matrix()));
+    for (auto &block : f->blocks)
+      {
+        if (previous != nullptr)
+          for (auto &old : previous->blocks)
+            if (old != nullptr && old->same_matrix(*block))
+              {
+                block = std::move(old);
+                ++f->n_kept;
+                break;
+              }
+        if (block->L == nullptr)
+          block->factorise();
+      }
+    previous.reset();
     matrix        = &A;
     factorization = std::move(f);
   }
@@ -256,26 +375,14 @@ namespace TKR::Elasticity
     return entries;
   }
 
-  // Compressed columns, the rows of each column sorted.
-  std::unique_ptr<cholmod_sparse, std::function<void(cholmod_sparse *)>>
-  DirectSolver::Factorization::lower_triangle(const Entries &entries)
+  // The blocks are the connected components of the matrix's graph
+  // (blocks_of_rows()); a row with only its diagonal entry (a constrained
+  // DoF) is solved by division. More than eight blocks (a mesh of many
+  // bodies) would cost more in bookkeeping than they save: the smaller ones
+  // are factorised together.
+  void
+  DirectSolver::Factorization::split(const Entries &entries)
   {
-    std::unique_ptr<cholmod_sparse, std::function<void(cholmod_sparse *)>>
-      lower(cholmod_l_allocate_sparse(n,
-                                      n,
-                                      entries.values.size(),
-                                      /*sorted=*/true,
-                                      /*packed=*/true,
-                                      /*stype=*/-1,
-                                      CHOLMOD_REAL,
-                                      &common),
-            [this](cholmod_sparse *S) { cholmod_l_free_sparse(&S, &common); });
-    AssertThrow(lower != nullptr,
-                ExcInputError("CHOLMOD could not allocate the matrix (out of "
-                              "memory?)."));
-    auto                    *column_start = static_cast<Index *>(lower->p);
-    auto                    *row_index    = static_cast<Index *>(lower->i);
-    auto                    *value        = static_cast<double *>(lower->x);
     std::vector<std::size_t> first_entry(n, 0);
     std::vector<int>         n_entries(n, -1);
     for (std::size_t r = 0, entry = 0; r < all_rows.size(); ++r)
@@ -287,43 +394,99 @@ namespace TKR::Elasticity
         n_entries[i]   = entries.counts[r];
         entry += entries.counts[r];
       }
-    column_start[0] = 0;
-    std::vector<std::pair<long long, double>> column;
+
+    unsigned int           n_blocks = 0;
+    const std::vector<int> block_of =
+      blocks_of_rows(n_entries, first_entry, entries.columns, n_blocks);
+    blocks.clear();
+    for (unsigned int b = 0; b < n_blocks; ++b)
+      blocks.push_back(std::make_unique<Block>());
+
+    std::vector<Index> local(n, -1);
+    diagonal_rows.clear();
+    diagonal_values.clear();
     for (Index i = 0; i < n; ++i)
+      if (block_of[i] >= 0)
+        {
+          Block &block = *blocks[block_of[i]];
+          local[i]     = block.rows.size();
+          block.rows.push_back(i);
+        }
+      else
+        {
+          AssertThrow(n_entries[i] == 1,
+                      dealii::ExcMessage("A matrix row has no diagonal."));
+          diagonal_rows.push_back(i);
+          diagonal_values.push_back(entries.values[first_entry[i]]);
+          AssertThrow(diagonal_values.back() > 0,
+                      ExcInputError(
+                        "The stiffness matrix is not positive definite "
+                        "(row " +
+                        std::to_string(i) + " has the diagonal entry " +
+                        format_number(diagonal_values.back()) +
+                        " and no other): a body can move as a rigid body. "
+                        "Check the Dirichlet surfaces and the springs."));
+        }
+
+    // Each block's lower triangle: its column i holds the rows j >= i of
+    // row i's upper triangle (local indices keep the global order).
+    std::vector<std::pair<Index, double>> column;
+    for (auto &block : blocks)
       {
-        column.clear();
-        for (int k = 0; k < n_entries[i]; ++k)
-          column.emplace_back(entries.columns[first_entry[i] + k],
-                              entries.values[first_entry[i] + k]);
-        std::sort(column.begin(), column.end());
-        Index p = column_start[i];
-        for (const auto &[j, a] : column)
+        block->column_start.assign(1, 0);
+        block->row_index.clear();
+        block->values.clear();
+        for (const long long i : block->rows)
           {
-            row_index[p] = j;
-            value[p]     = a;
-            ++p;
+            column.clear();
+            for (int k = 0; k < n_entries[i]; ++k)
+              column.emplace_back(local[entries.columns[first_entry[i] + k]],
+                                  entries.values[first_entry[i] + k]);
+            std::sort(column.begin(), column.end());
+            for (const auto &[j, a] : column)
+              {
+                block->row_index.push_back(j);
+                block->values.push_back(a);
+              }
+            block->column_start.push_back(block->row_index.size());
           }
-        column_start[i + 1] = p;
       }
-    return lower;
   }
 
   void
-  DirectSolver::Factorization::factorise(cholmod_sparse *lower)
+  DirectSolver::Block::factorise()
   {
-    L = cholmod_l_analyze(lower, &common);
+    const Index    n_block = n_rows();
+    cholmod_sparse lower;
+    lower.nrow   = n_block;
+    lower.ncol   = n_block;
+    lower.nzmax  = values.size();
+    lower.p      = column_start.data();
+    lower.i      = row_index.data();
+    lower.nz     = nullptr;
+    lower.x      = values.data();
+    lower.z      = nullptr;
+    lower.stype  = -1;
+    lower.itype  = CHOLMOD_LONG;
+    lower.xtype  = CHOLMOD_REAL;
+    lower.dtype  = CHOLMOD_DOUBLE;
+    lower.sorted = true;
+    lower.packed = true;
+    L            = cholmod_l_analyze(&lower, &common);
     AssertThrow(L != nullptr,
                 ExcInputError("CHOLMOD could not order the stiffness matrix "
                               "(status " +
                               std::to_string(common.status) + ")."));
-    cholmod_l_factorize(lower, L, &common);
-    AssertThrow(
-      common.status != CHOLMOD_NOT_POSDEF && static_cast<Index>(L->minor) == n,
-      ExcInputError("The stiffness matrix is singular or not positive definite "
-                    "(CHOLMOD: pivot " +
-                    std::to_string(L->minor) + " of " + std::to_string(n) +
-                    "): a body can move as a rigid body. Check the Dirichlet "
-                    "surfaces and the springs."));
+    cholmod_l_factorize(&lower, L, &common);
+    AssertThrow(common.status != CHOLMOD_NOT_POSDEF &&
+                  static_cast<Index>(L->minor) == n_block,
+                ExcInputError(
+                  "The stiffness matrix is singular or not positive definite "
+                  "(CHOLMOD: pivot " +
+                  std::to_string(L->minor) + " of the " +
+                  std::to_string(n_block) +
+                  " rows of one body): a body can move as a rigid body. Check "
+                  "the Dirichlet surfaces and the springs."));
     AssertThrow(common.status >= CHOLMOD_OK,
                 ExcInputError("CHOLMOD could not factorise the stiffness "
                               "matrix (status " +
@@ -341,6 +504,43 @@ namespace TKR::Elasticity
                   format_number(rcond) +
                   "): a body can move as a rigid body. Check the Dirichlet "
                   "surfaces and the springs."));
+  }
+
+  const double *
+  DirectSolver::Block::solve(const double      *B,
+                             const Index        m,
+                             const unsigned int blas_threads)
+  {
+    SolveBuffers &buffers = (m == 1) ? single : batch;
+    // BLAS threads only for many columns: with a few, the supernodal
+    // solve is a sequence of matrix-vector products, bound by memory
+    // bandwidth, and threads only cost synchronisation (one right-hand
+    // side on the medium TKR mesh: 30-37 ms with one thread, 37-92 ms
+    // with two; doc/performance.md).
+    ScopedBlasThreads threads(m >= 8 ? blas_threads : blas_threads > 0 ? 1 : 0);
+    // A header for the right-hand sides (CHOLMOD only reads B).
+    cholmod_dense B_header;
+    B_header.nrow  = n_rows();
+    B_header.ncol  = m;
+    B_header.nzmax = n_rows() * m;
+    B_header.d     = n_rows();
+    B_header.x     = const_cast<double *>(B);
+    B_header.z     = nullptr;
+    B_header.xtype = CHOLMOD_REAL;
+    B_header.dtype = CHOLMOD_DOUBLE;
+    const int ok   = cholmod_l_solve2(CHOLMOD_A,
+                                    L,
+                                    &B_header,
+                                    nullptr,
+                                    &buffers.X,
+                                    nullptr,
+                                    &buffers.Y,
+                                    &buffers.E,
+                                    &common);
+    AssertThrow(ok != 0,
+                dealii::ExcMessage("CHOLMOD solve failed (status " +
+                                   std::to_string(common.status) + ")."));
+    return static_cast<const double *>(buffers.X->x);
   }
 
   // All ranks get all right-hand sides; rank r solves the columns
@@ -362,22 +562,16 @@ namespace TKR::Elasticity
     const int        n_local = f.row_counts[f.rank];
     const Index      first   = m * f.rank / f.n_ranks,
                 last         = m * (f.rank + 1) / f.n_ranks;
-    const Factorization::SolveBuffers &buffers = f.solve_columns(first, last);
+    f.solve_columns(first, last);
 
     if (f.n_ranks == 1)
       {
-        const double *x = static_cast<const double *>(buffers.X->x);
         for (Index c = 0; c < m; ++c)
           for (int i = 0; i < n_local; ++i)
-            X[c][i] = x[c * n + my_rows[i]];
+            X[c][i] = f.X_mine[c * n + my_rows[i]];
         return;
       }
-    std::vector<double> solved(
-      last > first ? static_cast<const double *>(buffers.X->x) : nullptr,
-      last > first ?
-        static_cast<const double *>(buffers.X->x) + n * (last - first) :
-        nullptr);
-    const std::vector<double> all = all_gather_values(solved, f.communicator);
+    const std::vector<double> all = all_gather_values(f.X_mine, f.communicator);
     for (Index c = 0; c < m; ++c)
       for (int i = 0; i < n_local; ++i)
         X[c][i] = all[c * n + my_rows[i]];
@@ -413,44 +607,47 @@ namespace TKR::Elasticity
       }
   }
 
-  DirectSolver::Factorization::SolveBuffers &
+  // Each block solves the columns whose right-hand side is not zero on its
+  // rows (a unit load on one body: that body's block only), the diagonal
+  // rows are divided.
+  void
   DirectSolver::Factorization::solve_columns(const Index first,
                                              const Index last)
   {
-    SolveBuffers &buffers = (last - first == 1) ? single : batch;
-    if (last <= first)
-      return buffers;
-    // BLAS threads only for many columns: with a few, the supernodal
-    // solve is a sequence of matrix-vector products, bound by memory
-    // bandwidth, and threads only cost synchronisation (one right-hand
-    // side on the medium TKR mesh: 30-37 ms with one thread, 37-92 ms
-    // with two; doc/performance.md).
-    ScopedBlasThreads threads(last - first >= 8 ? blas_threads :
-                              blas_threads > 0  ? 1 :
-                                                  0);
-    // A header for this rank's columns of B_full (CHOLMOD only reads B).
-    cholmod_dense B_mine;
-    B_mine.nrow  = n;
-    B_mine.ncol  = last - first;
-    B_mine.nzmax = n * (last - first);
-    B_mine.d     = n;
-    B_mine.x     = B_full.data() + first * n;
-    B_mine.z     = nullptr;
-    B_mine.xtype = CHOLMOD_REAL;
-    B_mine.dtype = CHOLMOD_DOUBLE;
-    const int ok = cholmod_l_solve2(CHOLMOD_A,
-                                    L,
-                                    &B_mine,
-                                    nullptr,
-                                    &buffers.X,
-                                    nullptr,
-                                    &buffers.Y,
-                                    &buffers.E,
-                                    &common);
-    AssertThrow(ok != 0,
-                dealii::ExcMessage("CHOLMOD solve failed (status " +
-                                   std::to_string(common.status) + ")."));
-    return buffers;
+    const Index n_mine = std::max<Index>(last - first, 0);
+    X_mine.assign(n * n_mine, 0.);
+    if (n_mine == 0)
+      return;
+    const double *B_mine = B_full.data() + first * n;
+    for (Index c = 0; c < n_mine; ++c)
+      for (unsigned int d = 0; d < diagonal_rows.size(); ++d)
+        X_mine[c * n + diagonal_rows[d]] =
+          B_mine[c * n + diagonal_rows[d]] / diagonal_values[d];
+    std::vector<double> B_block;
+    std::vector<Index>  columns;
+    for (const auto &block : blocks)
+      {
+        const Index n_block = block->n_rows();
+        columns.clear();
+        for (Index c = 0; c < n_mine; ++c)
+          for (const long long i : block->rows)
+            if (B_mine[c * n + i] != 0.)
+              {
+                columns.push_back(c);
+                break;
+              }
+        if (columns.empty())
+          continue;
+        B_block.resize(n_block * columns.size());
+        for (std::size_t k = 0; k < columns.size(); ++k)
+          for (Index r = 0; r < n_block; ++r)
+            B_block[k * n_block + r] = B_mine[columns[k] * n + block->rows[r]];
+        const double *x =
+          block->solve(B_block.data(), columns.size(), blas_threads);
+        for (std::size_t k = 0; k < columns.size(); ++k)
+          for (Index r = 0; r < n_block; ++r)
+            X_mine[columns[k] * n + block->rows[r]] = x[k * n_block + r];
+      }
   }
 
   const Epetra_Map &
@@ -466,18 +663,38 @@ namespace TKR::Elasticity
     return factorization != nullptr;
   }
 
+  unsigned int
+  DirectSolver::n_blocks() const
+  {
+    Assert(is_factorized(), dealii::ExcMessage("Call factorize() first."));
+    return factorization->blocks.size();
+  }
+
+  unsigned int
+  DirectSolver::n_kept_blocks() const
+  {
+    Assert(is_factorized(), dealii::ExcMessage("Call factorize() first."));
+    return factorization->n_kept;
+  }
+
   double
   DirectSolver::n_factor_nonzeros() const
   {
     Assert(is_factorized(), dealii::ExcMessage("Call factorize() first."));
-    return factorization->common.lnz;
+    double n_nonzeros = factorization->diagonal_rows.size();
+    for (const auto &block : factorization->blocks)
+      n_nonzeros += block->common.lnz;
+    return n_nonzeros;
   }
 
   double
   DirectSolver::reciprocal_condition_estimate() const
   {
     Assert(is_factorized(), dealii::ExcMessage("Call factorize() first."));
-    return cholmod_l_rcond(factorization->L, &factorization->common);
+    double rcond = 1;
+    for (const auto &block : factorization->blocks)
+      rcond = std::min(rcond, cholmod_l_rcond(block->L, &block->common));
+    return rcond;
   }
 
   unsigned int

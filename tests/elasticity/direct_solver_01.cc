@@ -5,8 +5,11 @@
 // ranks: the stiffness with the femur clamped on femur_fixation and the
 // tibia clamped on tibia_inferior (inhomogeneous values) is factorised and
 // solved for several right-hand sides at once and for one; the residuals are at
-// round-off. Without the tibia's clamp the tibia floats: the factorisation must
-// refuse with the sentence about rigid-body motion.
+// round-off. The two bodies are factorised as two blocks: a unit load on the
+// tibia gives exactly zero on the femur, the same matrix again keeps both
+// factors, a stiffer tibia keeps the femur's. Without the tibia's clamp the
+// tibia floats: the factorisation must refuse with the sentence about
+// rigid-body motion.
 
 #include <deal.II/base/function.h>
 
@@ -120,7 +123,7 @@ main(int argc, char **argv)
         }
       deallog << "tibia clamped: " << yes_no(clamp_tibia)
               << ", factorised: " << yes_no(solver.is_factorized())
-              << std::endl;
+              << ", blocks: " << solver.n_blocks() << std::endl;
 
       // Seven random right-hand sides at once (on 2 ranks: 3 and 4
       // columns per rank), then the load vector alone.
@@ -129,6 +132,73 @@ main(int argc, char **argv)
       solver.solve(X, B);
       deallog << "7 right-hand sides, residual below 1e-12: "
               << yes_no(max_relative_residual(K, X, B) < 1e-12) << std::endl;
+
+      // A unit load on one body: the other body's values are exactly zero.
+      {
+        Epetra_MultiVector b(solver.row_map(), 1), x(solver.row_map(), 1);
+        const auto        &dofs = elasticity.get_dof_handler();
+        std::vector<types::global_dof_index> cell_dofs(
+          dofs.get_fe().n_dofs_per_cell());
+        types::global_dof_index tibia_dof = numbers::invalid_dof_index;
+        IndexSet                femur_dofs(dofs.n_dofs());
+        for (const auto &cell : dofs.active_cell_iterators())
+          {
+            cell->get_dof_indices(cell_dofs);
+            if (cell->material_id() == Mesh::MaterialIds::femur)
+              femur_dofs.add_indices(cell_dofs.begin(), cell_dofs.end());
+            else if (!constraints.is_constrained(cell_dofs[0]))
+              tibia_dof = cell_dofs[0];
+          }
+        const int local = b.Map().LID(static_cast<int>(tibia_dof));
+        if (local >= 0)
+          b[0][local] = 1.;
+        solver.solve(x, b);
+        double on_femur = 0;
+        for (const auto i : femur_dofs)
+          {
+            const int l = x.Map().LID(static_cast<int>(i));
+            if (l >= 0)
+              on_femur = std::max(on_femur, std::abs(x[0][l]));
+          }
+        deallog << "unit load on the tibia: residual below 1e-12: "
+                << yes_no(max_relative_residual(K, x, b) < 1e-12)
+                << ", largest value on the femur: "
+                << Utilities::MPI::max(on_femur, comm) << std::endl;
+      }
+
+      // The same matrix again: every block kept. Then the tibia twice as
+      // stiff: the femur's block kept, the tibia's factorised again.
+      solver.factorize(K);
+      deallog << "the same matrix again: " << solver.n_kept_blocks() << " of "
+              << solver.n_blocks() << " blocks kept" << std::endl;
+      {
+        Parameters::Materials stiffer = materials;
+        stiffer.tibia.youngs_modulus *= 2;
+        Elasticity::LinearElasticity stiffer_elasticity(triangulation,
+                                                        stiffer,
+                                                        linear,
+                                                        1,
+                                                        comm,
+                                                        timer);
+        stiffer_elasticity.distribute_dofs();
+        TKR::Elasticity::ElasticSystem stiffer_system(stiffer_elasticity);
+        stiffer_system.setup(constraints);
+        stiffer_system.assemble(mapping, constraints, loads);
+        Elasticity::DirectSolver refactorised = std::move(solver);
+        refactorised.factorize(stiffer_system.matrix());
+        Epetra_MultiVector b(refactorised.row_map(), 3),
+          x(refactorised.row_map(), 3);
+        b.Random();
+        refactorised.solve(x, b);
+        deallog << "the tibia twice as stiff: " << refactorised.n_kept_blocks()
+                << " of " << refactorised.n_blocks()
+                << " blocks kept, residual below 1e-12: "
+                << yes_no(max_relative_residual(stiffer_system.matrix(), x, b) <
+                          1e-12)
+                << std::endl;
+        solver = std::move(refactorised);
+        solver.factorize(K);
+      }
 
       // A moved solver keeps its factorisation.
       Elasticity::DirectSolver      moved = std::move(solver);

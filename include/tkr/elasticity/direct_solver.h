@@ -26,6 +26,14 @@ namespace TKR::Elasticity
    * and solves 128 right-hand sides in 0.6 to 0.8 s (on a loaded two-core
    * machine), where Amesos KLU took 127 s and 9.8 s (doc/performance.md).
    *
+   * The rows that no entry couples (the bodies of a contact problem: they
+   * touch only through the contact constraints) are factorised as separate
+   * blocks, at most eight: a right-hand side that is zero on a block's rows
+   * costs nothing there (the compliance columns of one body's surface), and
+   * factorize() keeps a block's factor when the block is the same as in the
+   * last call (the femur's, when only the insert's geometry changed). Rows
+   * with nothing but a diagonal entry (constrained DoFs) are divided.
+   *
    * CHOLMOD is sequential. With more than one rank in the matrix's
    * communicator, every rank gathers the whole matrix and factorises it
    * (redundantly: the same wall time as one rank, no communication in the
@@ -70,6 +78,17 @@ namespace TKR::Elasticity
     bool
     is_factorized() const;
 
+    /** The blocks factorised separately. */
+    unsigned int
+    n_blocks() const;
+
+    /**
+     * The blocks whose factor the last factorize() kept from the call
+     * before (the same rows and entries).
+     */
+    unsigned int
+    n_kept_blocks() const;
+
     /** Nonzeros of the factor L (for reports and benchmarks). */
     double
     n_factor_nonzeros() const;
@@ -105,6 +124,7 @@ namespace TKR::Elasticity
     blas_library();
 
   private:
+    struct Block;
     struct Factorization;
     const dealii::TrilinosWrappers::SparseMatrix *matrix = nullptr;
     std::unique_ptr<Factorization>                factorization;
