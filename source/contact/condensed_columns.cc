@@ -33,6 +33,8 @@ namespace TKR::Contact
                             coupling.master_surface().nodes().size(),
                           {});
     n_stored_columns = 0;
+    last_zone_values.clear();
+    last_gathered.reset();
     for (auto &columns : node_columns)
       for (Column &column : columns)
         {
@@ -142,12 +144,19 @@ namespace TKR::Contact
   {
     const unsigned int  n_observations = observation_weights.size();
     std::vector<double> values(X.NumVectors() * n_observations, 0.);
+    // The weights are zero away from their surface or body: only the
+    // others are added (the same sums).
+    std::vector<std::pair<int, double>> weights;
     for (unsigned int m = 0; m < n_observations; ++m)
       {
         const Epetra_MultiVector &w = observation_weights[m].trilinos_vector();
+        weights.clear();
+        for (int i = 0; i < X.MyLength(); ++i)
+          if (w[0][i] != 0.)
+            weights.emplace_back(i, w[0][i]);
         for (int c = 0; c < X.NumVectors(); ++c)
-          for (int i = 0; i < X.MyLength(); ++i)
-            values[c * n_observations + m] += w[0][i] * X[c][i];
+          for (const auto &[i, weight] : weights)
+            values[c * n_observations + m] += weight * X[c][i];
       }
     sum_over_ranks(values, mpi_communicator);
     return values;

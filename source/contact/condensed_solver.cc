@@ -16,6 +16,105 @@ namespace TKR::Contact
 {
   using namespace dealii;
 
+  namespace
+  {
+    /**
+     * target[k] += v[0] g[0][k] + ... + v[n_terms - 1] g[n_terms - 1][k] for
+     * k < n, 1 to 4 terms, the products added one after the other (the
+     * same floating-point sums as one axpy per term, in one pass over
+     * target instead of n_terms). Compiled for AVX2 as well (without FMA,
+     * so that both versions give the same bits); the processor picks.
+     */
+    __attribute__((target_clones("avx2", "default"),
+                   optimize("vect-cost-model=dynamic"))) void
+    add_terms(double *__restrict target,
+              const double *const *g,
+              const double        *v,
+              const unsigned int   n_terms,
+              const unsigned int   n)
+    {
+      const double *__restrict g0 = g[0];
+      const double v0             = v[0];
+      switch (n_terms)
+        {
+          case 1:
+            for (unsigned int k = 0; k < n; ++k)
+              target[k] += v0 * g0[k];
+            break;
+          case 2:
+            {
+              const double *__restrict g1 = g[1];
+              const double v1             = v[1];
+              for (unsigned int k = 0; k < n; ++k)
+                target[k] = (target[k] + v0 * g0[k]) + v1 * g1[k];
+              break;
+            }
+          case 3:
+            {
+              const double *__restrict g1 = g[1], *__restrict g2 = g[2];
+              const double v1 = v[1], v2 = v[2];
+              for (unsigned int k = 0; k < n; ++k)
+                target[k] =
+                  ((target[k] + v0 * g0[k]) + v1 * g1[k]) + v2 * g2[k];
+              break;
+            }
+          default:
+            {
+              Assert(n_terms == 4, ExcInternalError());
+              const double *__restrict g1 = g[1], *__restrict g2 = g[2],
+                                       *__restrict g3 = g[3];
+              const double v1 = v[1], v2 = v[2], v3 = v[3];
+              for (unsigned int k = 0; k < n; ++k)
+                target[k] =
+                  (((target[k] + v0 * g0[k]) + v1 * g1[k]) + v2 * g2[k]) +
+                  v3 * g3[k];
+            }
+        }
+    }
+
+    /**
+     * Adds terms for add_terms() and applies them four at a time, in the
+     * order they came.
+     */
+    class TermSum
+    {
+    public:
+      TermSum(double *target, const unsigned int n)
+        : target(target)
+        , n(n)
+      {}
+
+      void
+      add(const double value, const double *values)
+      {
+        v[n_terms] = value;
+        g[n_terms] = values;
+        if (++n_terms == 4)
+          flush();
+      }
+
+      void
+      flush()
+      {
+        if (n_terms > 0)
+          add_terms(target, g, v, n_terms, n);
+        n_terms = 0;
+      }
+
+      ~TermSum()
+      {
+        flush();
+      }
+
+    private:
+      double *const      target;
+      const unsigned int n;
+      const double      *g[4]    = {};
+      double             v[4]    = {};
+      unsigned int       n_terms = 0;
+    };
+  } // namespace
+
   void
   CondensedActiveSetSolver::setup(
     const Mapping<3>                &mapping,
@@ -188,6 +287,14 @@ namespace TKR::Contact
                std::lower_bound(values.begin(), values.end(), e->column) -
                values.begin()),
              e->value});
+    if (last_gathered != nullptr && values == last_zone_values)
+      zone.gathered = last_gathered;
+    else
+      {
+        zone.gathered    = std::make_shared<Zone::Gathered>();
+        last_zone_values = values;
+        last_gathered    = zone.gathered;
+      }
     zone.u0.resize(values.size());
     for (unsigned int k = 0; k < values.size(); ++k)
       zone.u0[k] = u0[values[k]];
@@ -204,6 +311,36 @@ namespace TKR::Contact
     return result;
   }
 
+  // With the columns' values at the zone values that the active rows
+  // reference laid out row by row (Z_A^T on them), each row of W_AA is a
+  // sum of those rows, in the order of the row's entries.
+  std::vector<double>
+  CondensedActiveSetSolver::Zone::delassus(
+    const std::vector<unsigned int> &active,
+    const std::vector<Column>       &z) const
+  {
+    const unsigned int  n_active = active.size();
+    std::vector<int>    slot(values.size(), -1);
+    std::vector<double> z_transposed;
+    unsigned int        n_slots = 0;
+    for (const unsigned int j : active)
+      for (const auto &e : rows[j])
+        if (slot[e.column] < 0)
+          {
+            slot[e.column] = n_slots++;
+            for (const unsigned int i : active)
+              z_transposed.push_back(z[i].surface[e.column]);
+          }
+    std::vector<double> W(n_active * n_active, 0.);
+    for (unsigned int a = 0; a < n_active; ++a)
+      {
+        TermSum sum(W.data() + a * n_active, n_active);
+        for (const auto &e : rows[active[a]])
+          sum.add(e.value, z_transposed.data() + slot[e.column] * n_active);
+      }
+    return W;
+  }
+
   // z_i = sum_c B_ic K^{-1} e_c on the zone: a slave column on the zone's
   // slave values, a master one on its master values.
   CondensedActiveSetSolver::Column
@@ -216,6 +353,10 @@ namespace TKR::Contact
     Column             z;
     z.surface.assign(n_zone, 0.);
     z.observations.assign(n_observations, 0.);
+    // The row's slave entries come first, then its master ones: a sum per
+    // body.
+    TermSum slave_sum(z.surface.data(), zone.n_slave);
+    TermSum master_sum(z.surface.data() + zone.n_slave, n_zone - zone.n_slave);
     for (auto e = B.begin(i); e != B.end(i); ++e)
       {
         const Column      &column = node_columns[e->column / 3][e->column % 3];
@@ -223,22 +364,45 @@ namespace TKR::Contact
         const unsigned int first    = is_slave ? 0 : zone.n_slave;
         const unsigned int last     = is_slave ? zone.n_slave : n_zone;
         const unsigned int offset   = is_slave ? 0 : n_slave_values;
-        auto [gathered, is_new]     = zone.gathered.try_emplace(e->column);
-        std::vector<double> &g      = gathered->second;
-        if (is_new)
+        auto               found    = zone.gathered->find(e->column);
+        if (found == zone.gathered->end())
           {
-            g.resize(last - first);
+            // the node's three columns at once (the row has all three)
+            const unsigned int            node = e->column / 3;
+            std::array<double *, 3>       g{};
+            std::array<const double *, 3> stored{};
+            unsigned int                  n_new = 0;
+            for (unsigned int d = 0; d < 3; ++d)
+              if (!node_columns[node][d].surface.empty())
+                {
+                  auto &target = (*zone.gathered)[3 * node + d] =
+                    std::vector<double>(last - first);
+                  g[n_new]      = target.data();
+                  stored[n_new] = node_columns[node][d].surface.data();
+                  ++n_new;
+                }
+            const unsigned int *values = zone.values.data();
             for (unsigned int k = first; k < last; ++k)
-              g[k - first] = column.surface[zone.values[k] - offset];
+              {
+                const unsigned int v = values[k] - offset;
+                for (unsigned int d = 0; d < n_new; ++d)
+                  g[d][k - first] = stored[d][v];
+              }
+            found = zone.gathered->find(e->column);
           }
-        double *const      target = z.surface.data() + first;
-        const double       value  = e->value;
-        const unsigned int n      = last - first;
-        for (unsigned int k = 0; k < n; ++k)
-          target[k] += value * g[k];
+        const std::vector<double> &g = found->second;
+        if (is_slave)
+          slave_sum.add(e->value, g.data());
+        else
+          {
+            slave_sum.flush();
+            master_sum.add(e->value, g.data());
+          }
         for (unsigned int o = 0; o < n_observations; ++o)
           z.observations[o] += e->value * column.observations[o];
       }
+    slave_sum.flush();
+    master_sum.flush();
     return z;
   }
 
@@ -251,16 +415,17 @@ namespace TKR::Contact
                                         const std::vector<Column>       &z,
                                         ContactState &state) const
   {
-    const auto              &nodes    = coupling.slave_nodes();
-    const unsigned int       n_active = active.size();
-    Vector<double>           lambda(n_active);
-    LAPACKFullMatrix<double> W(n_active, n_active);
+    const auto               &nodes    = coupling.slave_nodes();
+    const unsigned int        n_active = active.size();
+    Vector<double>            lambda(n_active);
+    LAPACKFullMatrix<double>  W(n_active, n_active);
+    const std::vector<double> delassus = zone.delassus(active, z);
     for (unsigned int a = 0; a < n_active; ++a)
       {
         const unsigned int j = active[a];
         lambda(a) = -(nodes[j].weighted_gap - zone.apply(j, zone.u0));
         for (unsigned int b = 0; b < n_active; ++b)
-          W(a, b) = zone.apply(j, z[active[b]].surface);
+          W(a, b) = delassus[a * n_active + b];
       }
     if (n_active > 0)
       {
@@ -274,12 +439,11 @@ namespace TKR::Contact
         W.solve(lambda);
       }
     std::vector<double> u_zone = zone.u0;
-    for (unsigned int a = 0; a < n_active; ++a)
-      {
-        const auto &z_i = z[active[a]].surface;
-        for (unsigned int k = 0; k < u_zone.size(); ++k)
-          u_zone[k] -= lambda(a) * z_i[k];
-      }
+    {
+      TermSum sum(u_zone.data(), u_zone.size());
+      for (unsigned int a = 0; a < n_active; ++a)
+        sum.add(-lambda(a), z[active[a]].surface.data());
+    }
     std::fill(state.pressure.begin(), state.pressure.end(), 0.);
     for (unsigned int a = 0; a < n_active; ++a)
       state.pressure[active[a]] = lambda(a);
@@ -391,18 +555,19 @@ namespace TKR::Contact
     double master_bound = 0;
     for (unsigned int r = n_slave_values; r < u0.size(); ++r)
       master_bound = std::max(master_bound, std::abs(u0[r]));
+    TermSum slave_sum(u_slave.data(), n_slave_values);
     for (unsigned int c = 0; c < y.size(); ++c)
       if (y[c] != 0.)
         {
           const Column &column = node_columns[c / 3][c % 3];
           if (c < n_slave_values)
-            for (unsigned int r = 0; r < n_slave_values; ++r)
-              u_slave[r] -= y[c] * column.surface[r];
+            slave_sum.add(-y[c], column.surface.data());
           else
             master_bound += std::abs(y[c]) * column.peak;
           for (unsigned int m = 0; m < observed.size(); ++m)
             observed[m] -= y[c] * column.observations[m];
         }
+    slave_sum.flush();
     for (unsigned int j = 0; j < n_slave; ++j)
       for (unsigned int e = 0; e < 3; ++e)
         state.displacement[j][e] = u_slave[3 * j + e];

@@ -186,11 +186,12 @@ namespace TKR::Contact
     Vector<double>           &rhs = newton.rhs;
     J.reinit(n_A + m, n_A + m);
     rhs.reinit(n_A + m);
+    const std::vector<double> delassus = zone.delassus(active, point.z);
     for (unsigned int a = 0; a < n_A; ++a)
       {
         const auto &node = nodes[active[a]];
         for (unsigned int b = 0; b < n_A; ++b)
-          J(a, b) = zone.apply(active[a], point.z[active[b]].surface) / node.D;
+          J(a, b) = delassus[a * n_A + b] / node.D;
         for (unsigned int k = 0; k < m; ++k)
           {
             const Tensor<1, 3> v =

@@ -18,6 +18,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <unordered_map>
 #include <vector>
 
@@ -245,17 +246,29 @@ namespace TKR::Contact
       std::vector<std::vector<Mortar::MortarOperator::Entry>> rows;
       /** u_0 on the zone. */
       std::vector<double> u0;
+      /** Stored columns gathered on the zone's values (see zone_column()). */
+      using Gathered = std::unordered_map<unsigned int, std::vector<double>>;
       /**
        * The stored columns K^-1 e_c (c a surface value) on the zone's slave
        * values (slave c) or master values (master c), gathered as
        * zone_column() first needs them: a column enters the rows of
-       * several active nodes.
+       * several active nodes. Shared with the zones of later solves that
+       * have the same values (a quarter of them in the gait).
        */
-      mutable std::unordered_map<unsigned int, std::vector<double>> gathered;
+      std::shared_ptr<Gathered> gathered;
 
       /** Row @p j of B times @p v (values on the zone). */
       double
       apply(const unsigned int j, const std::vector<double> &v) const;
+
+      /**
+       * W_AA = B_A Z_A for the @p active nodes and the columns @p z on the
+       * zone: row-major, entry (a, b) the row of active[a] times the column
+       * of active[b], the same sums as apply().
+       */
+      std::vector<double>
+      delassus(const std::vector<unsigned int> &active,
+               const std::vector<Column>       &z) const;
     };
 
     /**
@@ -270,6 +283,13 @@ namespace TKR::Contact
             const std::vector<double>    &u0_observations,
             const double                  initial_distance,
             ContactState                 &state);
+
+    /**
+     * The values and the gathered columns of the last zone that make_zone()
+     * made with new values (forgotten with the stored columns).
+     */
+    mutable std::vector<unsigned int>       last_zone_values;
+    mutable std::shared_ptr<Zone::Gathered> last_gathered;
 
     /** The zone of the current coupling, with @p u0 on it. */
     Zone
