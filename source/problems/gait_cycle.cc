@@ -14,6 +14,7 @@
 #include <tkr/problems/gait_cycle.h>
 
 #include <algorithm>
+#include <array>
 #include <iomanip>
 #include <limits>
 
@@ -552,38 +553,114 @@ namespace TKR::Problems
 
   namespace
   {
-    /** A step's record, report and end state, for the exchange. */
+    /**
+     * A step's record (without its per-node arrays, which go as plain
+     * numbers: see gather_steps()), report and end state, for the exchange.
+     */
     struct StepResult
     {
       unsigned int     step = 0;
       Wear::StepRecord record;
-      Gait::StepReport report;
-      Gait::StepStart  start;
+      /** The lengths of the record's pressure, femur_point, displacement
+       *  and normal arrays. */
+      std::array<unsigned int, 4> n_nodes = {};
+      Gait::StepReport            report;
+      Gait::StepStart             start;
 
       template <class Archive>
       void
       serialize(Archive &archive, const unsigned int)
       {
-        archive &step &record &report &start;
+        archive &step &record &n_nodes &report &start;
       }
     };
+
+    /** Append the record's per-node arrays to @p values. */
+    void
+    pack_arrays(const Wear::StepRecord &record, std::vector<double> &values)
+    {
+      values.insert(values.end(),
+                    record.pressure.begin(),
+                    record.pressure.end());
+      const auto add = [&values](const auto &vectors) {
+        for (const auto &v : vectors)
+          for (unsigned int d = 0; d < 3; ++d)
+            values.push_back(v[d]);
+      };
+      add(record.femur_point);
+      add(record.displacement);
+      add(record.normal);
+    }
+
+    /**
+     * Read the per-node arrays of lengths @p n_nodes into @p record from
+     * @p values, from @p position on (advanced past them).
+     */
+    void
+    unpack_arrays(const std::array<unsigned int, 4> &n_nodes,
+                  const std::vector<double>         &values,
+                  std::size_t                       &position,
+                  Wear::StepRecord                  &record)
+    {
+      const double *v = values.data() + position;
+      record.pressure.assign(v, v + n_nodes[0]);
+      v += n_nodes[0];
+      const auto read = [&v](auto &vectors, const unsigned int n) {
+        vectors.resize(n);
+        for (auto &vector : vectors)
+          for (unsigned int d = 0; d < 3; ++d)
+            vector[d] = *v++;
+      };
+      read(record.femur_point, n_nodes[1]);
+      read(record.displacement, n_nodes[2]);
+      read(record.normal, n_nodes[3]);
+      position = v - values.data();
+    }
   } // namespace
 
   // Each step's results are taken from the one rank that lists it (the
-  // root of the step group that solved it; the others list none).
+  // root of the step group that solved it; the others list none). The
+  // records' per-node arrays, nearly all of the bytes, go in one exchange
+  // of numbers, the rest through serialization.
   void
   GaitCycle::gather_steps(const std::vector<unsigned int> &own_steps)
   {
     std::vector<StepResult> mine;
+    std::vector<double>     my_arrays;
     for (const unsigned int step : own_steps)
-      mine.push_back({step, records[step], reports[step], starts[step]});
-    for (const auto &from_rank : all_gather_objects(model.world(), mine))
-      for (const auto &result : from_rank)
-        {
-          records[result.step] = result.record;
-          reports[result.step] = result.report;
-          starts[result.step]  = result.start;
-        }
+      {
+        const Wear::StepRecord &record = records[step];
+        StepResult              result;
+        result.step          = step;
+        result.record.motion = record.motion;
+        result.n_nodes       = {
+                {static_cast<unsigned int>(record.pressure.size()),
+                 static_cast<unsigned int>(record.femur_point.size()),
+                 static_cast<unsigned int>(record.displacement.size()),
+                 static_cast<unsigned int>(record.normal.size())}};
+        result.report = reports[step];
+        result.start  = starts[step];
+        mine.push_back(std::move(result));
+        pack_arrays(record, my_arrays);
+      }
+    std::vector<int>          offsets;
+    const std::vector<double> arrays =
+      all_gather_values(my_arrays, model.world(), &offsets);
+    const auto all = all_gather_objects(model.world(), mine);
+    for (std::size_t rank = 0; rank < all.size(); ++rank)
+      {
+        std::size_t position = offsets[rank];
+        for (const auto &result : all[rank])
+          {
+            Wear::StepRecord &record = records[result.step];
+            record.motion            = result.record.motion;
+            unpack_arrays(result.n_nodes, arrays, position, record);
+            reports[result.step] = result.report;
+            starts[result.step]  = result.start;
+          }
+        AssertThrow(position == static_cast<std::size_t>(offsets[rank + 1]),
+                    ExcInternalError());
+      }
   }
 
   unsigned int
