@@ -7,10 +7,8 @@
 
 #include <Epetra_CrsMatrix.h>
 #include <Epetra_MpiComm.h>
-#include <dlfcn.h>
 #include <mpi.h>
 #include <sched.h>
-#include <suitesparse/cholmod.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -20,56 +18,22 @@
 #include <utility>
 #include <vector>
 
+#include "cholmod_block.h"
+
 namespace TKR::Elasticity
 {
+  using internal::Index;
+  using internal::OpenBlasThreads;
+  using internal::ScopedBlasThreads;
+
   namespace
   {
-    using Index = SuiteSparse_long;
-
     MPI_Comm
     communicator_of(const Epetra_BlockMap &map)
     {
       const auto *comm = dynamic_cast<const Epetra_MpiComm *>(&map.Comm());
       return comm != nullptr ? comm->Comm() : MPI_COMM_SELF;
     }
-
-    /** OpenBLAS' thread control (null with another BLAS). */
-    struct OpenBlasThreads
-    {
-      using Set = void (*)(int);
-      using Get = int (*)();
-      Set set =
-        reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-      Get get =
-        reinterpret_cast<Get>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
-    };
-
-    /**
-     * The BLAS runs with @p n threads while this object lives (nothing
-     * happens for n = 0 or with another BLAS than OpenBLAS).
-     */
-    class ScopedBlasThreads
-    {
-    public:
-      explicit ScopedBlasThreads(const unsigned int n)
-      {
-        if (n == 0 || blas.set == nullptr || blas.get == nullptr)
-          return;
-        previous = blas.get();
-        if (previous != static_cast<int>(n))
-          blas.set(n);
-      }
-
-      ~ScopedBlasThreads()
-      {
-        if (previous > 0 && previous != blas.get())
-          blas.set(previous);
-      }
-
-    private:
-      OpenBlasThreads blas;
-      int             previous = 0;
-    };
 
     /** Ranks of MPI_COMM_WORLD on this node, without a collective call. */
     unsigned int
@@ -147,85 +111,6 @@ namespace TKR::Elasticity
       return block_of;
     }
   } // namespace
-
-  // One block of the matrix that no other row couples to (a body): its
-  // rows, its lower triangle as factorised (to recognise it again) and
-  // CHOLMOD's objects, freed in the destructor: the workspace (common), the
-  // factor L and the dense buffers that cholmod_l_solve2() reuses (it
-  // reallocates them whenever the number of columns changes, so one set for
-  // single right-hand sides and one for batches).
-  struct DirectSolver::Block
-  {
-    struct SolveBuffers
-    {
-      cholmod_dense *X = nullptr, *Y = nullptr, *E = nullptr;
-    };
-
-    cholmod_common  common;
-    cholmod_factor *L = nullptr;
-    SolveBuffers    single, batch;
-    /** The global rows, increasing. */
-    std::vector<long long> rows;
-    /** The lower triangle (compressed columns, local indices). */
-    std::vector<Index>  column_start, row_index;
-    std::vector<double> values;
-
-    Block()
-    {
-      cholmod_l_start(&common);
-      // The errors become exceptions below; CHOLMOD prints nothing.
-      common.print = 0;
-      // Supernodal: the dense blocks of L go to the BLAS, where an optimised
-      // BLAS makes the difference (doc/performance.md).
-      common.supernodal = CHOLMOD_SUPERNODAL;
-      // The ordering: CHOLMOD's default strategy, AMD, and METIS as well if
-      // AMD's factor is dense (and then the smaller one). On the medium TKR
-      // mesh METIS gives 35 % fewer nonzeros in L and a third of the flops
-      // (doc/performance.md); on the coarse mesh AMD is as good and cheaper.
-      common.nmethods = 0;
-    }
-
-    ~Block()
-    {
-      for (SolveBuffers *buffers : {&single, &batch})
-        {
-          cholmod_l_free_dense(&buffers->X, &common);
-          cholmod_l_free_dense(&buffers->Y, &common);
-          cholmod_l_free_dense(&buffers->E, &common);
-        }
-      cholmod_l_free_factor(&L, &common);
-      cholmod_l_finish(&common);
-    }
-
-    Block(const Block &) = delete;
-    Block &
-    operator=(const Block &) = delete;
-
-    /** The same rows and the same lower triangle as @p other. */
-    bool
-    same_matrix(const Block &other) const
-    {
-      return rows == other.rows && column_start == other.column_start &&
-             row_index == other.row_index && values == other.values;
-    }
-
-    /** Order and factorise the lower triangle; refuse a singular one. */
-    void
-    factorise();
-
-    /**
-     * Solve for the @p m columns of @p B (n_rows() x m, column-major);
-     * returns the solutions, in the same layout.
-     */
-    const double *
-    solve(const double *B, const Index m, const unsigned int blas_threads);
-
-    Index
-    n_rows() const
-    {
-      return rows.size();
-    }
-  };
 
   // The blocks and the layout of the rows over the ranks.
   struct DirectSolver::Factorization
@@ -451,96 +336,6 @@ namespace TKR::Elasticity
             block->column_start.push_back(block->row_index.size());
           }
       }
-  }
-
-  void
-  DirectSolver::Block::factorise()
-  {
-    const Index    n_block = n_rows();
-    cholmod_sparse lower;
-    lower.nrow   = n_block;
-    lower.ncol   = n_block;
-    lower.nzmax  = values.size();
-    lower.p      = column_start.data();
-    lower.i      = row_index.data();
-    lower.nz     = nullptr;
-    lower.x      = values.data();
-    lower.z      = nullptr;
-    lower.stype  = -1;
-    lower.itype  = CHOLMOD_LONG;
-    lower.xtype  = CHOLMOD_REAL;
-    lower.dtype  = CHOLMOD_DOUBLE;
-    lower.sorted = true;
-    lower.packed = true;
-    L            = cholmod_l_analyze(&lower, &common);
-    AssertThrow(L != nullptr,
-                ExcInputError("CHOLMOD could not order the stiffness matrix "
-                              "(status " +
-                              std::to_string(common.status) + ")."));
-    cholmod_l_factorize(&lower, L, &common);
-    AssertThrow(common.status != CHOLMOD_NOT_POSDEF &&
-                  static_cast<Index>(L->minor) == n_block,
-                ExcInputError(
-                  "The stiffness matrix is singular or not positive definite "
-                  "(CHOLMOD: pivot " +
-                  std::to_string(L->minor) + " of the " +
-                  std::to_string(n_block) +
-                  " rows of one body): a body can move as a rigid body. Check "
-                  "the Dirichlet surfaces and the springs."));
-    AssertThrow(common.status >= CHOLMOD_OK,
-                ExcInputError("CHOLMOD could not factorise the stiffness "
-                              "matrix (status " +
-                              std::to_string(common.status) +
-                              "; out of memory?)."));
-    // A rigid-body mode in floating point need not give a negative pivot,
-    // only one at round-off level: (min L_ii / max L_ii)^2 about 1e-16.
-    // The gait stiffness matrices of the TKR meshes have 1e-6 (coarse
-    // 1.2e-6, medium 3.4e-6).
-    const double rcond = cholmod_l_rcond(L, &common);
-    AssertThrow(rcond > 1e-14,
-                ExcInputError(
-                  "The stiffness matrix is singular (CHOLMOD's reciprocal "
-                  "condition estimate is " +
-                  format_number(rcond) +
-                  "): a body can move as a rigid body. Check the Dirichlet "
-                  "surfaces and the springs."));
-  }
-
-  const double *
-  DirectSolver::Block::solve(const double      *B,
-                             const Index        m,
-                             const unsigned int blas_threads)
-  {
-    SolveBuffers &buffers = (m == 1) ? single : batch;
-    // BLAS threads only for many columns: with a few, the supernodal
-    // solve is a sequence of matrix-vector products, bound by memory
-    // bandwidth, and threads only cost synchronisation (one right-hand
-    // side on the medium TKR mesh: 30-37 ms with one thread, 37-92 ms
-    // with two; doc/performance.md).
-    ScopedBlasThreads threads(m >= 8 ? blas_threads : blas_threads > 0 ? 1 : 0);
-    // A header for the right-hand sides (CHOLMOD only reads B).
-    cholmod_dense B_header;
-    B_header.nrow  = n_rows();
-    B_header.ncol  = m;
-    B_header.nzmax = n_rows() * m;
-    B_header.d     = n_rows();
-    B_header.x     = const_cast<double *>(B);
-    B_header.z     = nullptr;
-    B_header.xtype = CHOLMOD_REAL;
-    B_header.dtype = CHOLMOD_DOUBLE;
-    const int ok   = cholmod_l_solve2(CHOLMOD_A,
-                                    L,
-                                    &B_header,
-                                    nullptr,
-                                    &buffers.X,
-                                    nullptr,
-                                    &buffers.Y,
-                                    &buffers.E,
-                                    &common);
-    AssertThrow(ok != 0,
-                dealii::ExcMessage("CHOLMOD solve failed (status " +
-                                   std::to_string(common.status) + ")."));
-    return static_cast<const double *>(buffers.X->x);
   }
 
   // All ranks get all right-hand sides; rank r solves the columns

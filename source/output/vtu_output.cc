@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // This file is part of tkr-wear.
 
+#include <tkr/base/atomic_file.h>
 #include <tkr/output/vtu_output.h>
 
 #include <algorithm>
-#include <fstream>
+#include <sstream>
 
 namespace TKR::Output
 {
@@ -38,8 +39,9 @@ namespace TKR::Output
     if (record_communicator == MPI_COMM_NULL &&
         Utilities::MPI::this_mpi_process(piece_communicator) == 0)
       {
-        std::ofstream pvd(directory + "/" + name + ".pvd");
+        std::ostringstream pvd;
         DataOutBase::write_pvd_record(pvd, records);
+        write_atomically(directory + "/" + name + ".pvd", pvd.str());
       }
   }
 
@@ -61,8 +63,9 @@ namespace TKR::Output
     std::sort(all.begin(), all.end());
     if (Utilities::MPI::this_mpi_process(record_communicator) == 0)
       {
-        std::ofstream pvd(directory + "/" + name + ".pvd");
+        std::ostringstream pvd;
         DataOutBase::write_pvd_record(pvd, all);
+        write_atomically(directory + "/" + name + ".pvd", pvd.str());
       }
   }
 } // namespace TKR::Output

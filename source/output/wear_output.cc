@@ -15,7 +15,6 @@
 
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <iomanip>
 #include <sstream>
 
@@ -69,8 +68,7 @@ namespace TKR::Output
   {
     if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
       return;
-    std::ofstream csv(directory + "/steps" + (name.empty() ? "" : "_" + name) +
-                      ".csv");
+    std::ostringstream csv;
     csv << "step,percent";
     for (const auto &column : protocol.input_columns())
       csv << ',' << column;
@@ -92,6 +90,9 @@ namespace TKR::Output
           csv << ',' << value;
         csv << '\n';
       }
+    write_atomically(directory + "/steps" + (name.empty() ? "" : "_" + name) +
+                       ".csv",
+                     csv.str());
   }
 
   void
@@ -301,9 +302,8 @@ namespace TKR::Output
     const auto &x = geometry.vertex_positions();
     const auto &depth =
       activity_depth ? *activity_depth : geometry.wear_depth();
-    const bool    with_cs = cross_shear.size() == surface.nodes().size();
-    std::ofstream nodes(directory + "/wear_map" +
-                        (name.empty() ? "" : "_" + name) + ".csv");
+    const bool         with_cs = cross_shear.size() == surface.nodes().size();
+    std::ostringstream nodes;
     nodes << "x,y,z,depth_mm" << (with_cs ? ",cross_shear" : "") << '\n'
           << std::setprecision(10);
     for (unsigned int j = 0; j < surface.nodes().size(); ++j)
@@ -314,15 +314,19 @@ namespace TKR::Output
           nodes << ',' << cross_shear[j];
         nodes << '\n';
       }
+    write_atomically(directory + "/wear_map" +
+                       (name.empty() ? "" : "_" + name) + ".csv",
+                     nodes.str());
     if (!name.empty())
       return;
     // deal.II numbers a face's vertices lexicographically: 0, 1, 3, 2 go
     // around it.
-    std::ofstream faces(directory + "/wear_map_faces.csv");
+    std::ostringstream faces;
     faces << "n0,n1,n2,n3\n";
     for (const auto &face : surface.faces())
       faces << face.nodes[0] << ',' << face.nodes[1] << ',' << face.nodes[3]
             << ',' << face.nodes[2] << '\n';
+    write_atomically(directory + "/wear_map_faces.csv", faces.str());
   }
 
   std::string
@@ -361,7 +365,7 @@ namespace TKR::Output
             error  = exception_message(exc) + " (see <" + log_file + ">)";
             output = error + "\n";
           }
-        std::ofstream(log_file) << output;
+        write_atomically(log_file, output);
       }
     return Utilities::MPI::broadcast(mpi_communicator, error, 0);
   }

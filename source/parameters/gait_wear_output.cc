@@ -22,6 +22,7 @@ namespace TKR::Parameters
     void
     declare_gait_cycle(ParameterHandler &prm)
     {
+      TKR::Gait::Protocols::check_registered("gait protocol");
       prm.declare_entry(
         "Control",
         "force",
@@ -249,6 +250,7 @@ namespace TKR::Parameters
     void
     declare_wear_law(ParameterHandler &prm)
     {
+      TKR::Wear::WearLaws::check_registered("wear law");
       prm.declare_entry("Wear law",
                         "archard",
                         Patterns::Selection(TKR::Wear::WearLaws::names()),

@@ -611,24 +611,16 @@ namespace TKR::Problems
       }
   }
 
+  std::function<void(MPI_Comm)> WearProblem::start_hook;
+
   bool
   WearProblem::run()
   {
     const auto &parameters = model.parameters();
     const auto &wear       = parameters.wear;
     model.start("knee-simulator wear test");
-#ifdef TKR_TEST_HOOKS
-    // Test only (cli/one_rank_error, scripts/study; CMake option
-    // TKR_TEST_HOOKS): an input error raised on one rank of the run alone,
-    // as a rank-local failure would be, while the others go on into the
-    // set-up.
-    if (const char *rank = std::getenv("TKR_TEST_ERROR_ON_RANK"))
-      AssertThrow(std::to_string(
-                    Utilities::MPI::this_mpi_process(model.world())) != rank,
-                  ExcInputError("TKR_TEST_ERROR_ON_RANK: an error raised on "
-                                "rank " +
-                                std::string(rank) + " alone."));
-#endif
+    if (start_hook)
+      start_hook(model.world());
     AssertThrow(parameters.mesh.fe_degree == 1,
                 ExcInputError(
                   "Problem = wear needs Finite element degree = 1."));

@@ -9,6 +9,44 @@ namespace TKR::Wear
 {
   using namespace dealii;
 
+  StepRecord::ArraySizes
+  StepRecord::pack_arrays(std::vector<double> &values) const
+  {
+    values.insert(values.end(), pressure.begin(), pressure.end());
+    const auto add = [&values](const auto &vectors) {
+      for (const auto &v : vectors)
+        for (unsigned int d = 0; d < 3; ++d)
+          values.push_back(v[d]);
+    };
+    add(femur_point);
+    add(displacement);
+    add(normal);
+    return {{static_cast<unsigned int>(pressure.size()),
+             static_cast<unsigned int>(femur_point.size()),
+             static_cast<unsigned int>(displacement.size()),
+             static_cast<unsigned int>(normal.size())}};
+  }
+
+  void
+  StepRecord::unpack_arrays(const ArraySizes          &sizes,
+                            const std::vector<double> &values,
+                            std::size_t               &position)
+  {
+    const double *v = values.data() + position;
+    pressure.assign(v, v + sizes[0]);
+    v += sizes[0];
+    const auto read = [&v](auto &vectors, const unsigned int n) {
+      vectors.resize(n);
+      for (auto &vector : vectors)
+        for (unsigned int d = 0; d < 3; ++d)
+          vector[d] = *v++;
+    };
+    read(femur_point, sizes[1]);
+    read(displacement, sizes[2]);
+    read(normal, sizes[3]);
+    position = v - values.data();
+  }
+
   StepRecord
   make_step_record(const Mortar::MortarCoupling &coupling,
                    const Contact::ContactState  &state,

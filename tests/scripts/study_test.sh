@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: LGPL-2.1-or-later
-# study_test.sh TKR_WEAR MPIEXEC
+# study_test.sh TKR_WEAR MPIEXEC [TKR_WEAR_TEST]
 # Problem = study (doc/studies.md) on the inputs in tests/scripts/study/:
 # 1. the 2 x 2 grid (grid.prm) on 2 ranks (two groups of one rank, one
 #    queue; and one group of two ranks) and on 1 rank: the same study.csv
@@ -29,13 +29,13 @@
 #    each case; R_ts = 55 reproduces the bundled TKR A mesh byte for byte
 #    and its flexion axis, R_ts = 70 runs and wears differently.
 # 7. an error raised on one rank of a 2-rank case (TKR_TEST_ERROR_ON_RANK,
-#    built only with -DTKR_TEST_HOOKS=ON, the third argument 1): after 30 s
+#    only in tkr-wear-test, the third argument): after 30 s
 #    that rank says so and ends the study instead of the other rank waiting
 #    forever.
 set -u
 exe=$1
 mpiexec=$2
-hooks=${3:-0}
+test_exe=${3:-}
 here=$(cd "$(dirname "$0")" && pwd)
 data=$here/study
 # the readers of the result files (doc/output.md); import tkr_results
@@ -219,10 +219,10 @@ EOF
 [ $? -eq 0 ] || fail "6. the variants' results"
 echo "study_test: 6. design variants meshed per case by meshes/gen/tkr_variant.py (R_ts = 55 gives the bundled TKR A mesh and flexion axis)"
 # 7.
-if [ "$hooks" = 1 ]; then
+if [ -n "$test_exe" ]; then
   printf 'include %s\nsubsection Output\n  set Directory = one_rank\nend\n' \
     "$work/pairs.prm" > one_rank.prm
-  TKR_TEST_ERROR_ON_RANK=1 timeout 200 "$mpiexec" -np 2 "$exe" one_rank.prm > one_rank.log 2>&1
+  TKR_TEST_ERROR_ON_RANK=1 timeout 200 "$mpiexec" -np 2 "$test_exe" one_rank.prm > one_rank.log 2>&1
   status=$?
   cat one_rank.log
   [ $status -ne 124 ] || fail "7. a one-rank error in a case hung the study"
@@ -231,6 +231,6 @@ if [ "$hooks" = 1 ]; then
     fail "7. unexpected message"
   echo "study_test: 7. an error on one rank of a 2-rank case ends the study with one message (exit code $status)"
 else
-  echo "study_test: 7. skipped (built without -DTKR_TEST_HOOKS=ON)"
+  echo "study_test: 7. skipped (no tkr-wear-test given)"
 fi
 echo "study_test: passed"

@@ -117,6 +117,25 @@ namespace TKR
       return plugin->second;
     }
 
+    /**
+     * Throws unless some model of this kind (@p kind, e.g. "wear law")
+     * registered itself. The models register while libtkr's static objects
+     * are initialised; linked from a static libtkr, the object files that
+     * nobody references (every model's) would be left out, and with them
+     * every model: then this says so instead of offering an empty choice.
+     */
+    static void
+    check_registered(const std::string &kind)
+    {
+      AssertThrow(!plugins().empty(),
+                  dealii::ExcMessage(
+                    "No " + kind +
+                    " is registered: the models register themselves when "
+                    "libtkr is loaded, which needs libtkr as a shared "
+                    "library (CMakeLists.txt: add_library(tkr SHARED ...)), "
+                    "not a static one."));
+    }
+
     /** The names joined by @p separator (`|`: a Patterns::Selection). */
     static std::string
     names(const std::string &separator = "|")

@@ -16,6 +16,7 @@
 #include <tkr/wear/wear_law.h>
 #include <tkr/wear/wear_state.h>
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -57,6 +58,13 @@ namespace TKR::Problems
     /** Run; returns true if every contact solve of every block converged. */
     bool
     run();
+
+    /**
+     * Called by run() on every rank before the set-up, if set. Only the
+     * test executable tkr-wear-test sets it (apps/test_hooks.cc: the fault
+     * injection of two tests); tkr-wear and the library never do.
+     */
+    static std::function<void(MPI_Comm)> start_hook;
 
     /**
      * The run's result (after run(); doc/output.md): what summary.json and

@@ -13,6 +13,8 @@
 
 #include <boost/serialization/vector.hpp>
 
+#include <array>
+#include <cstddef>
 #include <vector>
 
 namespace TKR::Wear
@@ -38,6 +40,27 @@ namespace TKR::Wear
     {
       archive &motion &pressure &femur_point &displacement &normal;
     }
+
+    /** The lengths of pressure, femur_point, displacement and normal. */
+    using ArraySizes = std::array<unsigned int, 4>;
+
+    /**
+     * The per-node arrays as plain numbers (every field but motion, which
+     * serialize() covers too): their lengths, and appended to @p values.
+     * For an exchange that sends nearly all of a record's bytes without
+     * serialising them (see GaitCycle::gather_steps()).
+     */
+    ArraySizes
+    pack_arrays(std::vector<double> &values) const;
+
+    /**
+     * Read the per-node arrays of lengths @p sizes written by pack_arrays()
+     * from @p values, from @p position on (advanced past them).
+     */
+    void
+    unpack_arrays(const ArraySizes          &sizes,
+                  const std::vector<double> &values,
+                  std::size_t               &position);
   };
 
   /**

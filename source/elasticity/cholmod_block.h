@@ -1,0 +1,133 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+//
+// Private to source/elasticity: one block of DirectSolver's matrix (a body)
+// factorised by CHOLMOD, and the BLAS threads of its calls.
+
+#ifndef tkr_source_elasticity_cholmod_block_h
+#define tkr_source_elasticity_cholmod_block_h
+
+#include <tkr/elasticity/direct_solver.h>
+
+#include <suitesparse/cholmod.h>
+
+#include <vector>
+
+namespace TKR::Elasticity
+{
+  namespace internal
+  {
+    using Index = SuiteSparse_long;
+
+    /** OpenBLAS' thread control (null with another BLAS). */
+    struct OpenBlasThreads
+    {
+      using Set = void (*)(int);
+      using Get = int (*)();
+      Set set;
+      Get get;
+
+      OpenBlasThreads();
+    };
+
+    /**
+     * The BLAS runs with @p n threads while this object lives (nothing
+     * happens for n = 0 or with another BLAS than OpenBLAS).
+     */
+    class ScopedBlasThreads
+    {
+    public:
+      explicit ScopedBlasThreads(const unsigned int n);
+
+      ~ScopedBlasThreads();
+
+    private:
+      OpenBlasThreads blas;
+      int             previous = 0;
+    };
+  } // namespace internal
+
+  // One block of the matrix that no other row couples to (a body): its
+  // rows, its lower triangle as factorised (to recognise it again) and
+  // CHOLMOD's objects, freed in the destructor: the workspace (common), the
+  // factor L and the dense buffers that cholmod_l_solve2() reuses (it
+  // reallocates them whenever the number of columns changes, so one set for
+  // single right-hand sides and one for batches).
+  struct DirectSolver::Block
+  {
+    struct SolveBuffers
+    {
+      cholmod_dense *X = nullptr, *Y = nullptr, *E = nullptr;
+    };
+
+    cholmod_common  common;
+    cholmod_factor *L = nullptr;
+    SolveBuffers    single, batch;
+    /** The global rows, increasing. */
+    std::vector<long long> rows;
+    /** The lower triangle (compressed columns, local indices). */
+    std::vector<internal::Index> column_start, row_index;
+    std::vector<double>          values;
+
+    Block()
+    {
+      cholmod_l_start(&common);
+      // The errors become exceptions below; CHOLMOD prints nothing.
+      common.print = 0;
+      // Supernodal: the dense blocks of L go to the BLAS, where an optimised
+      // BLAS makes the difference (doc/performance.md).
+      common.supernodal = CHOLMOD_SUPERNODAL;
+      // The ordering: CHOLMOD's default strategy, AMD, and METIS as well if
+      // AMD's factor is dense (and then the smaller one). On the medium TKR
+      // mesh METIS gives 35 % fewer nonzeros in L and a third of the flops
+      // (doc/performance.md); on the coarse mesh AMD is as good and cheaper.
+      common.nmethods = 0;
+    }
+
+    ~Block()
+    {
+      for (SolveBuffers *buffers : {&single, &batch})
+        {
+          cholmod_l_free_dense(&buffers->X, &common);
+          cholmod_l_free_dense(&buffers->Y, &common);
+          cholmod_l_free_dense(&buffers->E, &common);
+        }
+      cholmod_l_free_factor(&L, &common);
+      cholmod_l_finish(&common);
+    }
+
+    Block(const Block &) = delete;
+    Block &
+    operator=(const Block &) = delete;
+
+    /** The same rows and the same lower triangle as @p other. */
+    bool
+    same_matrix(const Block &other) const
+    {
+      return rows == other.rows && column_start == other.column_start &&
+             row_index == other.row_index && values == other.values;
+    }
+
+    /** Order and factorise the lower triangle; refuse a singular one. */
+    void
+    factorise();
+
+    /**
+     * Solve for the @p m columns of @p B (n_rows() x m, column-major);
+     * returns the solutions, in the same layout.
+     */
+    const double *
+    solve(const double         *B,
+          const internal::Index m,
+          const unsigned int    blas_threads);
+
+    internal::Index
+    n_rows() const
+    {
+      return rows.size();
+    }
+  };
+
+} // namespace TKR::Elasticity
+
+#endif
