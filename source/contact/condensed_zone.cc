@@ -179,8 +179,8 @@ namespace TKR::Contact
               if (!node_columns[node][d].surface.empty())
                 {
                   auto &target = (*zone.gathered)[3 * node + d] =
-                    std::vector<double>(last - first);
-                  g[n_new]      = target.data();
+                    std::unique_ptr<double[]>(new double[last - first]);
+                  g[n_new]      = target.get();
                   stored[n_new] = node_columns[node][d].surface.data();
                   ++n_new;
                 }
@@ -193,14 +193,8 @@ namespace TKR::Contact
               }
             found = zone.gathered->find(e->column);
           }
-        const std::vector<double> &g = found->second;
-        if (is_slave)
-          slave_sum.add(e->value, g.data());
-        else
-          {
-            slave_sum.flush();
-            master_sum.add(e->value, g.data());
-          }
+        // (the two sums write apart: their order does not matter)
+        (is_slave ? slave_sum : master_sum).add(e->value, found->second.get());
         for (unsigned int o = 0; o < n_observations; ++o)
           z.observations[o] += e->value * column.observations[o];
       }

@@ -246,8 +246,13 @@ namespace TKR::Contact
       std::vector<std::vector<Mortar::MortarOperator::Entry>> rows;
       /** u_0 on the zone. */
       std::vector<double> u0;
-      /** Stored columns gathered on the zone's values (see zone_column()). */
-      using Gathered = std::unordered_map<unsigned int, std::vector<double>>;
+      /**
+       * Stored columns gathered on the zone's values (see zone_column()),
+       * by surface value; each array as long as the zone's part of its
+       * body, not initialised before the gather fills it.
+       */
+      using Gathered =
+        std::unordered_map<unsigned int, std::unique_ptr<double[]>>;
       /**
        * The stored columns K^-1 e_c (c a surface value) on the zone's slave
        * values (slave c) or master values (master c), gathered as
