@@ -67,10 +67,11 @@ namespace TKR::Gait
         {},
         {"AP displacement sign", "IE rotation sign"}},
        [](const Parameters::Gait &parameters,
+          const std::any         &own,
           const InferiorSurface  &surface) -> std::unique_ptr<Protocol> {
          return std::make_unique<DisplacementControl>(
            parameters,
-           parameters.protocols.get<DisplacementSigns>("displacement"),
+           std::any_cast<const DisplacementSigns &>(own),
            surface);
        }});
   } // namespace

@@ -122,10 +122,11 @@ namespace TKR::Gait
          "AP force sign",
          "IE torque sign"}},
        [](const Parameters::Gait &parameters,
+          const std::any         &own,
           const InferiorSurface  &surface) -> std::unique_ptr<Protocol> {
          return std::make_unique<ForceControl>(
            parameters,
-           parameters.protocols.get<Restraints>("force"),
+           std::any_cast<const Restraints &>(own),
            surface);
        }});
   } // namespace

@@ -42,7 +42,9 @@ namespace TKR::Gait
   create_protocol(const Parameters::Gait &parameters,
                   const Triangulation<3> &triangulation)
   {
-    return Protocols::get(parameters.control, "Gait/Control")
-      .create(parameters, measure_inferior_surface(triangulation));
+    return Protocols::get(parameters.control)
+      .create(parameters,
+              parameters.protocols.of(parameters.control),
+              measure_inferior_surface(triangulation));
   }
 } // namespace TKR::Gait

@@ -6,6 +6,7 @@
 #include <deal.II/base/utilities.h>
 
 #include <tkr/base/exceptions.h>
+#include <tkr/base/registry.h>
 #include <tkr/parameters/parameters.h>
 
 #include "parameter_file.h"
@@ -68,19 +69,26 @@ namespace TKR::Parameters
         "gravimetric data (data/measured/README.md: cycles, mass_mg, "
         "specimen). The fitted entries are shared by all designs. Relative "
         "paths are taken from this file's directory.");
+      // the rate entry of every wear law that has one (ModelEntries::rate)
+      std::string rate_entries, rate_laws;
+      for (const auto &[law, entry] : ModelKind::get("wear law").rate_entries())
+        {
+          rate_entries += entry + "|";
+          rate_laws += (rate_laws.empty() ? "" : ", ") + law + ": " + entry;
+        }
       prm.declare_entry(
         "Fit",
         "Wear/Archard/Wear coefficient",
-        Patterns::MultipleSelection(
-          "Wear/Archard/Wear coefficient|Wear/Archard cs/Table scale|"
-          "Wear/Area/Table scale|Run-in factor|Run-in length"),
-        "What is fitted (least squares on the mass loss): the Archard "
-        "coefficient (Wear law = archard) or a cross-shear table's scale "
-        "(archard_cs, area: one of these three, the designs' law's), the "
-        "run-in's initial factor "
-        "and its length (the run-in falls linearly from the factor at 0 "
-        "cycles to 1 at the length; written as the run-in file of "
-        "calibrated.prm). Entries not fitted keep the base files' values.");
+        Patterns::MultipleSelection(rate_entries +
+                                    "Run-in factor|Run-in length"),
+        "What is fitted (least squares on the mass loss): the entry that "
+        "scales the designs' wear law's rate (" +
+          rate_laws +
+          "; at most one, the designs' law's), the "
+          "run-in's initial factor "
+          "and its length (the run-in falls linearly from the factor at 0 "
+          "cycles to 1 at the length; written as the run-in file of "
+          "calibrated.prm). Entries not fitted keep the base files' values.");
       prm.declare_entry("Run-in factor",
                         "2",
                         Patterns::Double(0),

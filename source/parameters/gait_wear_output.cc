@@ -4,9 +4,8 @@
 // The parameters of the wear run: subsections Gait, Wear and Output.
 
 #include <tkr/base/exceptions.h>
-#include <tkr/gait/protocol.h>
+#include <tkr/base/registry.h>
 #include <tkr/parameters/parameters.h>
-#include <tkr/wear/wear_law.h>
 
 #include "vector_entry.h"
 
@@ -18,16 +17,31 @@ namespace TKR::Parameters
 
   namespace
   {
+    // The models are declared by their owners (gait/, wear/), which enter
+    // them into these kinds when libtkr is loaded (base/registry.h): this
+    // layer includes nothing above it.
+    const ModelKind &
+    protocols_kind()
+    {
+      return ModelKind::get("gait protocol");
+    }
+
+    const ModelKind &
+    laws_kind()
+    {
+      return ModelKind::get("wear law");
+    }
+
     /** The protocol, its waveform and the knee's frame. */
     void
     declare_gait_cycle(ParameterHandler &prm)
     {
-      TKR::Gait::Protocols::check_registered("gait protocol");
+      protocols_kind().check_registered();
       prm.declare_entry(
         "Control",
         "force",
-        Patterns::Selection(TKR::Gait::Protocols::names()),
-        TKR::Gait::Protocols::documentation(
+        Patterns::Selection(protocols_kind().names()),
+        protocols_kind().documentation(
           "The gait protocol, how the simulator drives the knee (its own "
           "entries in its subsection below): ") +
           " The waveform file must have the protocol's columns "
@@ -205,7 +219,7 @@ namespace TKR::Parameters
       declare_gait_loads(prm);
       declare_gait_pose(prm);
       declare_gait_adjustments(prm);
-      TKR::Gait::Protocols::declare_parameters(prm);
+      protocols_kind().declare_parameters(prm);
     }
     prm.leave_subsection();
   }
@@ -230,7 +244,7 @@ namespace TKR::Parameters
       largest_initial_overlap    = prm.get_double("Largest initial overlap");
       coupled_pose               = (prm.get("Pose solver") == "coupled");
       femur_ap_offset            = prm.get_double("Femur AP offset");
-      protocols                  = TKR::Gait::Protocols::parse_parameters(prm);
+      protocols                  = protocols_kind().parse_parameters(prm);
       channel_scales.clear();
       for (const std::string &pair :
            Utilities::split_string_list(prm.get("Channel scales"), ','))
@@ -250,11 +264,11 @@ namespace TKR::Parameters
     void
     declare_wear_law(ParameterHandler &prm)
     {
-      TKR::Wear::WearLaws::check_registered("wear law");
+      laws_kind().check_registered();
       prm.declare_entry("Wear law",
                         "archard",
-                        Patterns::Selection(TKR::Wear::WearLaws::names()),
-                        TKR::Wear::WearLaws::documentation(
+                        Patterns::Selection(laws_kind().names()),
+                        laws_kind().documentation(
                           "How the sliding of a gait cycle wears the insert "
                           "(doc/wear.md); each law's constants are in its own "
                           "subsection below: "));
@@ -277,7 +291,7 @@ namespace TKR::Parameters
     prm.enter_subsection("Wear");
     {
       declare_wear_law(prm);
-      TKR::Wear::WearLaws::declare_parameters(prm);
+      laws_kind().declare_parameters(prm);
       prm.declare_entry("Cycles",
                         "5e6",
                         Patterns::Double(0),
@@ -348,8 +362,8 @@ namespace TKR::Parameters
       law                    = prm.get("Wear law");
       run_in_file            = prm.get("Run-in file");
       cross_shear_definition = prm.get("Cross-shear definition");
-      laws                   = TKR::Wear::WearLaws::parse_parameters(prm);
-      TKR::Wear::check_wear_law(*this);
+      laws                   = laws_kind().parse_parameters(prm);
+      laws_kind().check(law, laws);
       cycles = prm.get_double("Cycles");
       cycles_per_extrapolation_step =
         prm.get_double("Cycles per extrapolation step");
@@ -427,13 +441,13 @@ namespace TKR::Parameters
 
   namespace
   {
-    /** @p list of the wear laws' registry, then of the protocols'. */
+    /** @p list of the wear laws' kind, then of the protocols'. */
     template <typename List>
     auto
     of_every_model(const List &list)
     {
-      auto all = list(TKR::Wear::WearLaws(), "Wear");
-      for (auto &item : list(TKR::Gait::Protocols(), "Gait"))
+      auto all = list(laws_kind());
+      for (auto &item : list(protocols_kind()))
         all.push_back(std::move(item));
       return all;
     }
@@ -442,27 +456,25 @@ namespace TKR::Parameters
   std::vector<std::pair<std::string, std::string>>
   moved_entries()
   {
-    return of_every_model([](auto registry, const std::string &kind) {
-      return decltype(registry)::moved_entries(kind);
-    });
+    return of_every_model(
+      [](const ModelKind &kind) { return kind.moved_entries(); });
   }
 
   std::vector<std::string>
   model_file_entries()
   {
-    return of_every_model([](auto registry, const std::string &kind) {
-      return decltype(registry)::file_entries(kind);
-    });
+    return of_every_model(
+      [](const ModelKind &kind) { return kind.file_entries(); });
   }
 
   std::vector<std::string>
   unselected_model_subsections(const AllParameters &parameters)
   {
     std::vector<std::string> unselected;
-    for (const auto &[name, path] : TKR::Wear::WearLaws::subsections("Wear"))
+    for (const auto &[name, path] : laws_kind().subsections())
       if (name != parameters.wear.law)
         unselected.push_back(path);
-    for (const auto &[name, path] : TKR::Gait::Protocols::subsections("Gait"))
+    for (const auto &[name, path] : protocols_kind().subsections())
       if (name != parameters.gait.control)
         unselected.push_back(path);
     return unselected;

@@ -11,6 +11,7 @@
 #include <tkr/problems/calibration_problem.h>
 #include <tkr/problems/study_cases.h>
 #include <tkr/problems/wear_problem.h>
+#include <tkr/wear/wear_law.h>
 
 #include <algorithm>
 #include <cmath>
@@ -30,11 +31,12 @@ namespace TKR::Problems
   namespace
   {
     /** Per wear law, the entry that scales its rate: the "k" of
-     *  tau = k F(c). */
-    const std::map<std::string, std::string> rate_entries = {
-      {"archard", "Wear/Archard/Wear coefficient"},
-      {"archard_cs", "Wear/Archard cs/Table scale"},
-      {"area", "Wear/Area/Table scale"}};
+     *  tau = k F(c) (each law names its own, ModelEntries::rate). */
+    std::map<std::string, std::string>
+    rate_entries()
+    {
+      return Wear::WearLaws::kind().rate_entries();
+    }
 
 
     /** The measured points of one file (data/measured/README.md). */
@@ -186,14 +188,15 @@ namespace TKR::Problems
     AssertThrow(design.base.problem == Parameters::ProblemType::wear,
                 ExcInputError("Calibration/Designs: <" + files.base_file +
                               "> is not a wear run (Problem = wear)."));
-    const auto law_entry = rate_entries.find(design.base.wear.law);
-    AssertThrow(rate_entry.empty() || (law_entry != rate_entries.end() &&
-                                       law_entry->second == rate_entry),
+    const auto laws      = rate_entries();
+    const auto law_entry = laws.find(design.base.wear.law);
+    AssertThrow(rate_entry.empty() ||
+                  (law_entry != laws.end() && law_entry->second == rate_entry),
                 ExcInputError("Calibration/Fit names <" + rate_entry +
                               ">, but <" + files.base_file +
                               "> runs the wear law <" + design.base.wear.law +
                               ">, which does not use it."));
-    if (law_entry != rate_entries.end())
+    if (law_entry != laws.end())
       design.coefficient = std::stod(design.base.entries.at(law_entry->second));
     if (!design.base.wear.run_in_file.empty())
       design.run_in = Wear::read_run_in(design.base.wear.run_in_file);

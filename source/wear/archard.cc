@@ -38,7 +38,8 @@ namespace TKR::Wear
                 return ArchardParameters{prm.get_double("Wear coefficient")};
               },
               {},
-              {"Wear coefficient"}};
+              {"Wear coefficient"},
+              "Wear coefficient"};
     }
 
     [[maybe_unused]] const bool registered = WearLaws::add(
@@ -46,10 +47,10 @@ namespace TKR::Wear
        "Archard's law with the constant Wear coefficient k, depth rate k p "
        "|v_t| (the reference paper's model)",
        archard_entries(),
-       nothing_missing,
-       [](const Parameters::Wear &parameters) -> std::unique_ptr<WearLaw> {
+       [](const Parameters::Wear &,
+          const std::any &own) -> std::unique_ptr<WearLaw> {
          return std::make_unique<ArchardWear>(
-           parameters.laws.get<ArchardParameters>("archard").wear_coefficient);
+           std::any_cast<const ArchardParameters &>(own).wear_coefficient);
        }});
   } // namespace
 

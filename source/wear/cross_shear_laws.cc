@@ -10,23 +10,11 @@ namespace TKR::Wear
 {
   namespace
   {
-    /** The table entries of the law @p name (its own entries). */
-    const CrossShearLawParameters &
-    entries_of(const Parameters::Wear &parameters, const std::string &name)
-    {
-      return parameters.laws.get<CrossShearLawParameters>(name);
-    }
-
-    const std::string &
-    table_of(const Parameters::Wear &parameters, const std::string &name)
-    {
-      return entries_of(parameters, name).cross_shear_table;
-    }
-
     /**
      * The entries of a law with a table of its coefficient over the
      * cross-shear: `Wear/@p subsection/Cross-shear table`, whose columns
-     * are @p columns.
+     * are @p columns, and its Table scale (the rate entry); the table must
+     * be given.
      */
     ModelEntries
     table_entries(const std::string &subsection, const std::string &columns)
@@ -61,22 +49,37 @@ namespace TKR::Wear
                                          prm.get_double("Table scale")};
         },
         {"Cross-shear table"},
-        {"Cross-shear table"}};
-    }
-
-    /** The laws with a coefficient over the cross-shear need its table. */
-    std::function<std::string(const Parameters::Wear &)>
-    table_missing(const std::string &name)
-    {
-      return [name](const Parameters::Wear &parameters) {
-        return table_of(parameters, name).empty() ?
-                 "Wear/Wear law = " + name + " needs " +
-                   WearLaws::subsections("Wear").at(name) +
+        {"Cross-shear table"},
+        "Table scale",
+        [](const std::any &own) -> std::string {
+          return std::any_cast<const CrossShearLawParameters &>(own)
+                     .cross_shear_table.empty() ?
                    "Cross-shear table, a CSV file of its coefficient over "
                    "the cross-shear (doc/wear.md; data/wear/ has example "
                    "tables)." :
-                 "";
-      };
+                   "";
+        }};
+    }
+
+    /**
+     * The table of a law's own entries @p own (CrossShearLawParameters),
+     * its @p coefficient column, scaled.
+     */
+    template <typename Law>
+    std::unique_ptr<WearLaw>
+    make_table_law(const Parameters::Wear &parameters,
+                   const std::any         &own,
+                   const std::string      &coefficient,
+                   const bool              may_have_pressure)
+    {
+      const auto &entries = std::any_cast<const CrossShearLawParameters &>(own);
+      return std::make_unique<Law>(
+        CrossShearTable(entries.cross_shear_table,
+                        coefficient,
+                        may_have_pressure,
+                        cross_shear_definition(
+                          parameters.cross_shear_definition)),
+        entries.table_scale);
     }
 
     [[maybe_unused]] const bool archard_cs_registered = WearLaws::add(
@@ -87,15 +90,11 @@ namespace TKR::Wear
        table_entries("Archard cs",
                      "cross_shear, k_mm3_per_Nm in mm^3/(N m) and optionally "
                      "pressure_MPa"),
-       table_missing("archard_cs"),
-       [](const Parameters::Wear &parameters) -> std::unique_ptr<WearLaw> {
-         return std::make_unique<ArchardCrossShearWear>(
-           CrossShearTable(table_of(parameters, "archard_cs"),
-                           "k_mm3_per_Nm",
-                           true,
-                           cross_shear_definition(
-                             parameters.cross_shear_definition)),
-           entries_of(parameters, "archard_cs").table_scale);
+       [](const Parameters::Wear &parameters, const std::any &own) {
+         return make_table_law<ArchardCrossShearWear>(parameters,
+                                                      own,
+                                                      "k_mm3_per_Nm",
+                                                      true);
        }});
 
     [[maybe_unused]] const bool area_registered = WearLaws::add(
@@ -104,15 +103,8 @@ namespace TKR::Wear
        "distance, i.e. depth rate C(cross-shear) |v_t| whatever the "
        "pressure, C from its Cross-shear table (Wear/Area)",
        table_entries("Area", "cross_shear, C: dimensionless"),
-       table_missing("area"),
-       [](const Parameters::Wear &parameters) -> std::unique_ptr<WearLaw> {
-         return std::make_unique<AreaWear>(
-           CrossShearTable(table_of(parameters, "area"),
-                           "C",
-                           false,
-                           cross_shear_definition(
-                             parameters.cross_shear_definition)),
-           entries_of(parameters, "area").table_scale);
+       [](const Parameters::Wear &parameters, const std::any &own) {
+         return make_table_law<AreaWear>(parameters, own, "C", false);
        }});
   } // namespace
 

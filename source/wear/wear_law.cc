@@ -71,20 +71,13 @@ namespace TKR::Wear
     return wear;
   }
 
-  void
-  check_wear_law(const Parameters::Wear &parameters)
-  {
-    const std::string missing =
-      WearLaws::get(parameters.law, "Wear/Wear law").missing(parameters);
-    AssertThrow(missing.empty(), ExcInputError(missing));
-  }
-
   std::unique_ptr<WearLaw>
   create_wear_law(const Parameters::Wear &parameters)
   {
-    check_wear_law(parameters);
+    WearLaws::kind().check(parameters.law, parameters.laws);
     std::unique_ptr<WearLaw> law =
-      WearLaws::get(parameters.law, "Wear/Wear law").create(parameters);
+      WearLaws::get(parameters.law)
+        .create(parameters, parameters.laws.of(parameters.law));
     if (!parameters.run_in_file.empty())
       law->set_run_in(read_run_in(parameters.run_in_file),
                       parameters.run_in_file);

@@ -136,7 +136,7 @@ main(int argc, char **argv)
 
   // The registry: the laws registered themselves; a name no law has and a
   // law without its table are refused with the law's own message.
-  deallog << "registered laws: " << Wear::WearLaws::names() << std::endl;
+  deallog << "registered laws: " << Wear::WearLaws::kind().names() << std::endl;
   for (const auto &[name, table] :
        std::vector<std::pair<std::string, std::string>>{{"energy", ""},
                                                         {"area", ""}})

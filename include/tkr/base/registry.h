@@ -24,8 +24,10 @@ namespace TKR
    * are declared and parsed there (into the model's own parameter type,
    * held as a std::any), which of them are input files (taken from the
    * directory of the file that sets them, recorded by checksum in a
-   * checkpoint), and which of them lived in the kind's subsection itself
-   * before the model had its own (read there still, with a note).
+   * checkpoint), which of them lived in the kind's subsection itself
+   * before the model had its own (read there still, with a note), which
+   * one scales the model's rate (what Problem = calibration fits), and
+   * what a run still lacks with the parsed entries.
    */
   struct ModelEntries
   {
@@ -39,6 +41,16 @@ namespace TKR
     std::vector<std::string> files;
     /** The entries that were the kind's before (same names). */
     std::vector<std::string> moved;
+    /**
+     * The entry that is a factor on the model's rate (a wear law's
+     * coefficient or its table's scale); empty: none.
+     */
+    std::string rate = {};
+    /**
+     * What a run of the model lacks with its parsed parameters: "ENTRY,
+     * why" (an entry of its subsection), or empty. Null: nothing.
+     */
+    std::function<std::string(const std::any &)> missing = {};
   };
 
   /**
@@ -53,12 +65,24 @@ namespace TKR
     const T &
     get(const std::string &name) const
     {
-      const auto it = values.find(name);
-      AssertThrow(it != values.end() && std::any_cast<T>(&it->second),
+      const T *value = std::any_cast<T>(&of(name));
+      AssertThrow(value != nullptr,
                   dealii::ExcMessage("No parameters of type " +
                                      std::string(typeid(T).name()) +
                                      " for the model <" + name + ">."));
-      return *std::any_cast<T>(&it->second);
+      return *value;
+    }
+
+    /**
+     * The parameters of the model @p name as parsed (empty if it has no
+     * entries).
+     */
+    const std::any &
+    of(const std::string &name) const
+    {
+      static const std::any none;
+      const auto            it = values.find(name);
+      return it == values.end() ? none : it->second;
     }
 
     /** Set the parameters of the model @p name (e.g. in a test). */
@@ -74,19 +98,129 @@ namespace TKR
   };
 
   /**
+   * What the parameter files see of the models of one kind, whatever
+   * their interface: each one's name, documentation and own entries
+   * (ModelEntries). Registry<Plugin>::add() enters every model here as
+   * well, under its Plugin's kind, so that the parameters layer declares,
+   * parses and checks the models' entries through this class alone,
+   * without including the layers that define the models.
+   */
+  class ModelKind
+  {
+  public:
+    /** What one model shows of itself. */
+    struct Model
+    {
+      std::string  name;
+      std::string  documentation;
+      ModelEntries entries;
+    };
+
+    /**
+     * The kind called @p kind ("wear law", "gait protocol"), empty until
+     * its first model registers.
+     */
+    static ModelKind &
+    get(const std::string &kind);
+
+    /**
+     * Add @p model to the kind whose models are chosen by the entry
+     * @p selector of the subsection @p section ("Wear", "Wear law"); a
+     * name added twice is a bug.
+     */
+    void
+    add(const std::string &section,
+        const std::string &selector,
+        const Model       &model);
+
+    /**
+     * Throws unless some model of this kind registered itself. The models
+     * register while libtkr's static objects are initialised; linked from
+     * a static libtkr, the object files that nobody references (every
+     * model's) would be left out, and with them every model: then this
+     * says so instead of offering an empty choice.
+     */
+    void
+    check_registered() const;
+
+    /** The names joined by @p separator (`|`: a Patterns::Selection). */
+    std::string
+    names(const std::string &separator = "|") const;
+
+    /** @p intro, then "name = documentation" of each model, ";"-joined. */
+    std::string
+    documentation(const std::string &intro) const;
+
+    /**
+     * Declare each model's own subsection inside the kind's subsection,
+     * which @p prm has entered.
+     */
+    void
+    declare_parameters(dealii::ParameterHandler &prm) const;
+
+    /** Parse every model's own subsection (@p prm in the kind's). */
+    ModelParameters
+    parse_parameters(dealii::ParameterHandler &prm) const;
+
+    /**
+     * Throws an input error if the model @p name lacks an input with
+     * @p parameters (ModelEntries::missing), or if no model is called so.
+     */
+    void
+    check(const std::string &name, const ModelParameters &parameters) const;
+
+    /** Per model, "SECTION/Subsection/" of its own entries. */
+    std::map<std::string, std::string>
+    subsections() const;
+
+    /** Per model with one, the path of its rate entry (ModelEntries). */
+    std::map<std::string, std::string>
+    rate_entries() const;
+
+    /**
+     * The entries that moved into a model's subsection, as (old path, new
+     * path) pairs ("Wear/Wear coefficient", "Wear/Archard/Wear
+     * coefficient"); an old entry several models took has several pairs.
+     */
+    std::vector<std::pair<std::string, std::string>>
+    moved_entries() const;
+
+    /** The paths ("SECTION/Subsection/Entry") of every model's input files. */
+    std::vector<std::string>
+    file_entries() const;
+
+    /** "SECTION/SELECTOR", the entry that chooses the model. */
+    std::string
+    selector_path() const;
+
+  private:
+    explicit ModelKind(const std::string &kind);
+
+    /** "SECTION/Subsection/@p entry" of @p model's own entry. */
+    std::string
+    own_path(const Model &model, const std::string &entry) const;
+
+    std::string                  kind, section, selector;
+    std::map<std::string, Model> models;
+  };
+
+  /**
    * The models of one kind that registered themselves (ASPECT's plugin
    * pattern): a wear law, a gait protocol. A @p Plugin has a `name`, the
-   * value of the `.prm` entry that selects it, and a `documentation`, the
-   * phrase that describes it in that entry; the rest (how it is made, what
-   * it needs) is the kind's own. Each model's .cc file adds its plugin while
-   * the library's static objects are initialised:
+   * value of the `.prm` entry that selects it, a `documentation`, the
+   * phrase that describes it in that entry, and its `entries`
+   * (ModelEntries, its own subsection); the rest (how it is made, what it
+   * needs) is the kind's own. The Plugin type names its kind, the
+   * subsection of the kind and the entry that selects a model in static
+   * members `kind`, `section` and `selector`. Each model's .cc file adds
+   * its plugin while the library's static objects are initialised:
    *
    *     [[maybe_unused]] const bool registered =
    *       Registry<WearLawPlugin>::add({"archard", "Archard's law ...", ...});
    *
    * so that the entry's Patterns::Selection, its documentation and the
-   * factory all come from here, and nothing else lists the models. Its
-   * `entries` (ModelEntries) are the model's own subsection.
+   * factory all come from here, and nothing else lists the models. What
+   * the parameter files see of them is in ModelKind::get(Plugin::kind).
    */
   template <typename Plugin>
   class Registry
@@ -96,150 +230,36 @@ namespace TKR
     static bool
     add(const Plugin &plugin)
     {
-      const bool is_new = plugins().emplace(plugin.name, plugin).second;
-      AssertThrow(is_new,
-                  dealii::ExcMessage("<" + plugin.name +
-                                     "> is registered twice."));
+      kind().add(Plugin::section,
+                 Plugin::selector,
+                 {plugin.name, plugin.documentation, plugin.entries});
+      plugins().emplace(plugin.name, plugin);
       return true;
     }
 
     /**
      * The plugin called @p name; an unknown name is an input error that
-     * names @p entry (e.g. `Wear/Wear law`) and the known names.
+     * names the selecting entry and the known names.
      */
     static const Plugin &
-    get(const std::string &name, const std::string &entry)
+    get(const std::string &name)
     {
       const auto plugin = plugins().find(name);
       AssertThrow(plugin != plugins().end(),
-                  ExcInputError("Unknown " + entry + " <" + name +
-                                ">; the known ones: " + names(", ") + "."));
+                  ExcInputError(
+                    "Unknown " + kind().selector_path() + " <" + name +
+                    ">; the known ones: " + kind().names(", ") + "."));
       return plugin->second;
     }
 
-    /**
-     * Throws unless some model of this kind (@p kind, e.g. "wear law")
-     * registered itself. The models register while libtkr's static objects
-     * are initialised; linked from a static libtkr, the object files that
-     * nobody references (every model's) would be left out, and with them
-     * every model: then this says so instead of offering an empty choice.
-     */
-    static void
-    check_registered(const std::string &kind)
+    /** The kind as the parameter files see it. */
+    static ModelKind &
+    kind()
     {
-      AssertThrow(!plugins().empty(),
-                  dealii::ExcMessage(
-                    "No " + kind +
-                    " is registered: the models register themselves when "
-                    "libtkr is loaded, which needs libtkr as a shared "
-                    "library (CMakeLists.txt: add_library(tkr SHARED ...)), "
-                    "not a static one."));
-    }
-
-    /** The names joined by @p separator (`|`: a Patterns::Selection). */
-    static std::string
-    names(const std::string &separator = "|")
-    {
-      std::string text;
-      for (const auto &[name, plugin] : plugins())
-        text += (text.empty() ? "" : separator) + name;
-      return text;
-    }
-
-    /** @p intro, then "name = documentation" of each plugin, ";"-joined. */
-    static std::string
-    documentation(const std::string &intro)
-    {
-      std::string text = intro, separator;
-      for (const auto &[name, plugin] : plugins())
-        {
-          text += separator + name + " = " + plugin.documentation;
-          separator = "; ";
-        }
-      return text + ".";
-    }
-
-    /**
-     * Declare each model's own subsection (ModelEntries) inside the kind's
-     * subsection, which @p prm has entered.
-     */
-    static void
-    declare_parameters(dealii::ParameterHandler &prm)
-    {
-      for (const auto &[name, plugin] : plugins())
-        if (!plugin.entries.subsection.empty())
-          {
-            prm.enter_subsection(plugin.entries.subsection);
-            plugin.entries.declare(prm);
-            prm.leave_subsection();
-          }
-    }
-
-    /** Parse every model's own subsection (@p prm in the kind's). */
-    static ModelParameters
-    parse_parameters(dealii::ParameterHandler &prm)
-    {
-      ModelParameters parameters;
-      for (const auto &[name, plugin] : plugins())
-        if (!plugin.entries.subsection.empty())
-          {
-            prm.enter_subsection(plugin.entries.subsection);
-            parameters.set(name, plugin.entries.parse(prm));
-            prm.leave_subsection();
-          }
-      return parameters;
-    }
-
-    /**
-     * Per model, "KIND/Subsection/" of its own entries (@p kind: the
-     * kind's subsection, e.g. "Wear").
-     */
-    static std::map<std::string, std::string>
-    subsections(const std::string &kind)
-    {
-      std::map<std::string, std::string> paths;
-      for (const auto &[name, plugin] : plugins())
-        if (!plugin.entries.subsection.empty())
-          paths[name] = own_path(kind, plugin, "");
-      return paths;
-    }
-
-    /**
-     * The entries that moved into a model's subsection, as (old path, new
-     * path) pairs ("Wear/Wear coefficient", "Wear/Archard/Wear
-     * coefficient"); an old entry several models took has several pairs.
-     */
-    static std::vector<std::pair<std::string, std::string>>
-    moved_entries(const std::string &kind)
-    {
-      std::vector<std::pair<std::string, std::string>> moved;
-      for (const auto &[name, plugin] : plugins())
-        for (const std::string &entry : plugin.entries.moved)
-          moved.emplace_back(kind + "/" + entry, own_path(kind, plugin, entry));
-      return moved;
-    }
-
-    /** The paths ("KIND/Subsection/Entry") of every model's input files. */
-    static std::vector<std::string>
-    file_entries(const std::string &kind)
-    {
-      std::vector<std::string> files;
-      for (const auto &[name, plugin] : plugins())
-        for (const std::string &entry : plugin.entries.files)
-          files.push_back(own_path(kind, plugin, entry));
-      return files;
+      return ModelKind::get(Plugin::kind);
     }
 
   private:
-    /** "KIND/Subsection/@p entry" of @p plugin's own entry. */
-    static std::string
-    own_path(const std::string &kind,
-             const Plugin      &plugin,
-             const std::string &entry)
-    {
-      return kind + "/" + plugin.entries.subsection + "/" + entry;
-    }
-
     // A function-local static: the models register themselves during the
     // static initialisation of the library, in no set order.
     static std::map<std::string, Plugin> &

@@ -268,16 +268,20 @@ namespace TKR::Gait
    * A gait protocol as a plugin (Registry): the name that selects it in
    * `Gait/Control`, the phrase that documents it there, its own entries
    * (`Gait/<subsection>`, e.g. `Gait/Force control`; ModelEntries), and
-   * how it is made from the gait parameters and the tibia's inferior surface
-   * (where its loads act). Each protocol's .cc file registers its own
-   * (Protocols::add()).
+   * how it is made from the gait parameters, its own entries as parsed (a
+   * std::any of its entries' type) and the tibia's inferior surface (where
+   * its loads act). Each protocol's .cc file registers its own
+   * (Protocols::add()) and writes its name once.
    */
   struct ProtocolPlugin
   {
+    static constexpr const char *kind = "gait protocol", *section = "Gait",
+                                *selector = "Control";
     std::string  name;
     std::string  documentation;
     ModelEntries entries;
     std::function<std::unique_ptr<Protocol>(const Parameters::Gait &,
+                                            const std::any &,
                                             const InferiorSurface &)>
       create;
   };

@@ -148,40 +148,30 @@ namespace TKR::Wear
   /**
    * A wear law as a plugin (Registry): the name that selects it in
    * `Wear/Wear law`, the phrase that documents it there, its own entries
-   * (`Wear/<subsection>`, e.g. `Wear/Archard`; ModelEntries), what it
-   * lacks in the parameters (the input error; empty if nothing), and how
-   * it is made from them. Each law's .cc file registers its own
-   * (WearLaws::add()).
+   * (`Wear/<subsection>`, e.g. `Wear/Archard`; ModelEntries, with what
+   * it lacks and the entry that scales its rate), and how it is made from
+   * the wear parameters and its own entries as parsed (a std::any of its
+   * entries' type; empty without entries). Each law's .cc file registers
+   * its own (WearLaws::add()) and writes its name once.
    */
   struct WearLawPlugin
   {
-    std::string                                          name;
-    std::string                                          documentation;
-    ModelEntries                                         entries;
-    std::function<std::string(const Parameters::Wear &)> missing;
-    std::function<std::unique_ptr<WearLaw>(const Parameters::Wear &)> create;
+    static constexpr const char *kind = "wear law", *section = "Wear",
+                                *selector = "Wear law";
+    std::string  name;
+    std::string  documentation;
+    ModelEntries entries;
+    std::function<std::unique_ptr<WearLaw>(const Parameters::Wear &,
+                                           const std::any &)>
+      create;
   };
 
   /** The registered wear laws. */
   using WearLaws = Registry<WearLawPlugin>;
 
-  /**
-   * Refuse parameters whose law is unknown (naming the known ones) or
-   * lacks an input (the law's own message).
-   */
-  void
-  check_wear_law(const Parameters::Wear &parameters);
-
   /** The law of `Wear/Wear law` with its constants and the run-in. */
   std::unique_ptr<WearLaw>
   create_wear_law(const Parameters::Wear &parameters);
-
-  /** For WearLawPlugin::missing: a law that needs nothing more. */
-  inline std::string
-  nothing_missing(const Parameters::Wear &)
-  {
-    return "";
-  }
 
   /** The worn volume, depth and area of a depth field on the worn surface. */
   struct WearMeasures
