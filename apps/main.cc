@@ -8,6 +8,7 @@
 
 #include <tkr/base/exceptions.h>
 #include <tkr/base/mpi.h>
+#include <tkr/base/registry.h>
 #include <tkr/parameters/parameters.h>
 #include <tkr/problems/calibration_problem.h>
 #include <tkr/problems/contact_problem.h>
@@ -31,6 +32,11 @@ namespace
          "cases, continue the others)\n"
       << "       tkr-wear --print-parameters write the documented default "
          "parameter file\n"
+      << "       tkr-wear --list-models      the models of each kind (wear "
+         "laws, gait protocols)\n"
+      << "       tkr-wear --model-example NAME\n"
+      << "                                   the entries that run the model "
+         "NAME with its example inputs\n"
       << "       tkr-wear --help             this text\n"
       << "SIGTERM or SIGUSR1 stops a wear run or a study with a checkpoint "
          "(exit code 3;\n--resume continues it; doc/cluster.md).\n"
@@ -105,7 +111,9 @@ main(int argc, char *argv[])
 
   const std::string argument = (argc >= 2 ? argv[1] : "");
   const bool        resume   = (argc == 3 && argument == "--resume");
-  if ((argc != 2 && !resume) || argument == "--help" || argument == "-h")
+  const bool        example  = (argc == 3 && argument == "--model-example");
+  if ((argc != 2 && !resume && !example) || argument == "--help" ||
+      argument == "-h")
     {
       const bool asked = (argc == 2);
       if (is_root)
@@ -118,6 +126,27 @@ main(int argc, char *argv[])
         TKR::Parameters::print_default_parameters(std::cout);
       return 0;
     }
+  if (argument == "--list-models")
+    {
+      if (is_root)
+        TKR::ModelKind::list(std::cout);
+      return 0;
+    }
+  if (example)
+    try
+      {
+        const std::string text = TKR::ModelKind::example(argv[2]);
+        if (is_root)
+          std::cout << text;
+        return 0;
+      }
+    catch (const TKR::ExcInputError &exc)
+      {
+        if (is_root)
+          std::cerr << "tkr-wear: error: " << TKR::exception_message(exc)
+                    << std::endl;
+        return 1;
+      }
 
   // Used by nothing but the check after an error (TKR::all_ranks_arrive).
   MPI_Comm  error_communicator;

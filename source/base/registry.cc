@@ -11,14 +11,69 @@ namespace TKR
 
   // A function-local static: the models register themselves during the
   // static initialisation of the library, in no set order.
+  std::map<std::string, ModelKind> &
+  ModelKind::kinds()
+  {
+    static std::map<std::string, ModelKind> all;
+    return all;
+  }
+
   ModelKind &
   ModelKind::get(const std::string &kind)
   {
-    static std::map<std::string, ModelKind> kinds;
-    auto                                    it = kinds.find(kind);
-    if (it == kinds.end())
-      it = kinds.emplace(kind, ModelKind(kind)).first;
+    auto it = kinds().find(kind);
+    if (it == kinds().end())
+      it = kinds().emplace(kind, ModelKind(kind)).first;
     return it->second;
+  }
+
+  void
+  ModelKind::list(std::ostream &out)
+  {
+    for (const auto &[kind, models] : kinds())
+      for (const auto &[name, model] : models.models)
+        {
+          out << kind << ": " << name;
+          std::string separator = " (";
+          for (const std::string &trait : model.entries.traits)
+            {
+              out << separator << trait;
+              separator = ", ";
+            }
+          out << (model.entries.traits.empty() ? "" : ")") << '\n';
+        }
+  }
+
+  std::string
+  ModelKind::example(const std::string &name)
+  {
+    std::string known;
+    for (const auto &[kind, models] : kinds())
+      {
+        const auto model = models.models.find(name);
+        if (model == models.models.end())
+          {
+            known += (known.empty() ? "" : ", ") + models.names(", ");
+            continue;
+          }
+        const ModelEntries &entries = model->second.entries;
+        std::string text = "# " + kind + " " + name + " with its example " +
+                           "entries (tkr-wear --model-example " + name +
+                           ")\nsubsection " + models.section + "\n  set " +
+                           models.selector + " = " + name + "\n";
+        if (!entries.example.empty())
+          {
+            text += "  subsection " + entries.subsection + "\n";
+            for (const auto &[entry, value] : entries.example)
+              text += "    set " + entry + " = " + value + "\n";
+            text += "  end\n";
+          }
+        return text + "end\n";
+      }
+    AssertThrow(false,
+                ExcInputError("--model-example: no model is called <" + name +
+                              ">; the known ones: " + known + "."));
+    return "";
   }
 
   void

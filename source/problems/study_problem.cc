@@ -272,21 +272,9 @@ namespace TKR::Problems
     return parameters.output.directory + "/" + cases[index].name;
   }
 
-  bool
-  StudyProblem::run()
+  void
+  StudyProblem::write_case_files() const
   {
-    const unsigned int n_ranks =
-      Utilities::MPI::n_mpi_processes(mpi_communicator);
-    const unsigned int n_groups = n_ranks / parameters.study.ranks_per_case;
-    if (is_root)
-      std::cout
-        << "Study <" << parameters.parameter_file << ">: " << cases.size()
-        << " cases of <"
-        << std::filesystem::path(parameters.study.base_file).filename().string()
-        << ">, " << n_groups << " group(s) of "
-        << parameters.study.ranks_per_case << " rank(s)"
-        << (resume ? ", resumed" : "") << std::endl;
-    // Every case's directory and parameter file, before any group starts.
     const std::string base_file =
       std::filesystem::absolute(parameters.study.base_file).string();
     on_root(
@@ -312,6 +300,23 @@ namespace TKR::Problems
           }
       },
       mpi_communicator);
+  }
+
+  bool
+  StudyProblem::run()
+  {
+    const unsigned int n_ranks =
+      Utilities::MPI::n_mpi_processes(mpi_communicator);
+    const unsigned int n_groups = n_ranks / parameters.study.ranks_per_case;
+    if (is_root)
+      std::cout
+        << "Study <" << parameters.parameter_file << ">: " << cases.size()
+        << " cases of <"
+        << std::filesystem::path(parameters.study.base_file).filename().string()
+        << ">, " << n_groups << " group(s) of "
+        << parameters.study.ranks_per_case << " rank(s)"
+        << (resume ? ", resumed" : "") << std::endl;
+    write_case_files();
 
     const StepGroups group(mpi_communicator, n_groups);
     // Used by nothing but the check after a case's error (run_case()).

@@ -14,10 +14,13 @@ namespace TKR::Wear
      * The entries of a law with a table of its coefficient over the
      * cross-shear: `Wear/@p subsection/Cross-shear table`, whose columns
      * are @p columns, and its Table scale (the rate entry); the table must
-     * be given.
+     * be given. Its example: the EXAMPLE table @p example of data/wear/.
      */
     ModelEntries
-    table_entries(const std::string &subsection, const std::string &columns)
+    table_entries(const std::string              &subsection,
+                  const std::string              &columns,
+                  const std::string              &example,
+                  const std::vector<std::string> &traits = {})
     {
       return {
         subsection,
@@ -58,7 +61,9 @@ namespace TKR::Wear
                    "the cross-shear (doc/wear.md; data/wear/ has example "
                    "tables)." :
                    "";
-        }};
+        },
+        {{"Cross-shear table", "data/wear/" + example}},
+        traits};
     }
 
     /**
@@ -89,7 +94,8 @@ namespace TKR::Wear
        "pressure if the table has a pressure_MPa column)",
        table_entries("Archard cs",
                      "cross_shear, k_mm3_per_Nm in mm^3/(N m) and optionally "
-                     "pressure_MPa"),
+                     "pressure_MPa",
+                     "example-archard-cs.csv"),
        [](const Parameters::Wear &parameters, const std::any &own) {
          return make_table_law<ArchardCrossShearWear>(parameters,
                                                       own,
@@ -102,7 +108,10 @@ namespace TKR::Wear
        "the contact-area law, worn volume = C x contact area x sliding "
        "distance, i.e. depth rate C(cross-shear) |v_t| whatever the "
        "pressure, C from its Cross-shear table (Wear/Area)",
-       table_entries("Area", "cross_shear, C: dimensionless"),
+       table_entries("Area",
+                     "cross_shear, C: dimensionless",
+                     "example-area-law.csv",
+                     {"rate-changes-with-wear"}),
        [](const Parameters::Wear &parameters, const std::any &own) {
          return make_table_law<AreaWear>(parameters, own, "C", false);
        }});

@@ -11,6 +11,7 @@
 #include <any>
 #include <functional>
 #include <map>
+#include <ostream>
 #include <string>
 #include <typeinfo>
 #include <utility>
@@ -51,6 +52,20 @@ namespace TKR
      * why" (an entry of its subsection), or empty. Null: nothing.
      */
     std::function<std::string(const std::any &)> missing = {};
+    /**
+     * Entries of the subsection, with values, that make a run of the model
+     * (a file relative to the sources, which a parameter file finds
+     * there): what `tkr-wear --model-example` prints and the tests of
+     * every model run. Empty: the defaults do.
+     */
+    std::vector<std::pair<std::string, std::string>> example = {};
+    /**
+     * Words that tests and documentation select models by, e.g.
+     * "rate-changes-with-wear" (a wear law whose rate per cycle changes
+     * as wear changes the contact, e.g. grows with the contact area: a
+     * block's rate is not its first cycle's, and blocks must be shorter).
+     */
+    std::vector<std::string> traits = {};
   };
 
   /**
@@ -193,8 +208,27 @@ namespace TKR
     std::string
     selector_path() const;
 
+    /**
+     * Every kind with its models, one line per model: "KIND: NAME", and
+     * its traits in parentheses (`tkr-wear --list-models`).
+     */
+    static void
+    list(std::ostream &out);
+
+    /**
+     * The parameter file text that selects the model @p name (of any
+     * kind) with its example entries (`tkr-wear --model-example NAME`);
+     * an unknown name is an input error.
+     */
+    static std::string
+    example(const std::string &name);
+
   private:
     explicit ModelKind(const std::string &kind);
+
+    /** Every kind, by name. */
+    static std::map<std::string, ModelKind> &
+    kinds();
 
     /** "SECTION/Subsection/@p entry" of @p model's own entry. */
     std::string

@@ -67,6 +67,13 @@ namespace TKR::Problems
              const StepGroups  &group,
              const MPI_Comm     error_communicator);
 
+    /**
+     * Every case's directory and parameter file (rank 0), before any group
+     * starts; without a resume the cases' old status files go.
+     */
+    void
+    write_case_files() const;
+
     /** study.csv, study.json and the screen table (rank 0). */
     unsigned int
     output_results() const;

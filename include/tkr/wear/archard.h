@@ -29,12 +29,6 @@ namespace TKR::Wear
     /** @p k_per_metre: the `Wear coefficient` in mm^3/(N m). */
     explicit ArchardWear(const double k_per_metre);
 
-    std::string
-    name() const override
-    {
-      return "archard";
-    }
-
     double
     interval_depth(const CycleSliding &sliding,
                    const unsigned int  i,

@@ -54,12 +54,6 @@ namespace TKR::Wear
     ArchardCrossShearWear(const CrossShearTable &k_per_metre,
                           const double           scale = 1);
 
-    std::string
-    name() const override
-    {
-      return "archard_cs";
-    }
-
     double
     interval_depth(const CycleSliding &sliding,
                    const unsigned int  i,
@@ -87,12 +81,6 @@ namespace TKR::Wear
   public:
     /** C = @p scale x the table's value. */
     AreaWear(const CrossShearTable &c, const double scale = 1);
-
-    std::string
-    name() const override
-    {
-      return "area";
-    }
 
     double
     interval_depth(const CycleSliding &sliding,

@@ -65,10 +65,6 @@ namespace TKR::Wear
   public:
     virtual ~WearLaw() = default;
 
-    /** The `Wear/Wear law` name ("archard"). */
-    virtual std::string
-    name() const = 0;
-
     /** One line for the screen: the law and its constants with units, and
      *  the run-in if there is one. */
     std::string
