@@ -6,12 +6,16 @@
 # must end within 300 s: an error raised on some ranks only must not hang
 # the others.
 #   expect-error.sh TKR_WEAR PRM_FILE FRAGMENT...
+# A PRM_FILE that starts with -- is the command line's options instead
+# (e.g. "--model-example bogus", split at spaces).
 set -u
 exe=$1
 prm=$2
 shift 2
+args=("$prm")
+[[ "$prm" == --* ]] && read -ra args <<< "$prm"
 if [ -n "${TKR_RANKS:-}" ]; then
-  output=$(timeout 300 mpirun -np "$TKR_RANKS" "$exe" "$prm" 2>&1)
+  output=$(timeout 300 mpirun -np "$TKR_RANKS" "$exe" "${args[@]}" 2>&1)
   code=$?
   if [ "$code" -eq 124 ]; then
     echo "$output"
@@ -19,7 +23,7 @@ if [ -n "${TKR_RANKS:-}" ]; then
     exit 1
   fi
 else
-  output=$("$exe" "$prm" 2>&1)
+  output=$("$exe" "${args[@]}" 2>&1)
   code=$?
 fi
 echo "$output"
