@@ -153,13 +153,19 @@ namespace TKR
   }
 
   void
+  ModelKind::check_known(const std::string &name) const
+  {
+    AssertThrow(models.count(name) == 1,
+                ExcInputError("Unknown " + selector_path() + " <" + name +
+                              ">; the known ones: " + names(", ") + "."));
+  }
+
+  void
   ModelKind::check(const std::string     &name,
                    const ModelParameters &parameters) const
   {
-    const auto model = models.find(name);
-    AssertThrow(model != models.end(),
-                ExcInputError("Unknown " + selector_path() + " <" + name +
-                              ">; the known ones: " + names(", ") + "."));
+    check_known(name);
+    const auto          model   = models.find(name);
     const ModelEntries &entries = model->second.entries;
     if (!entries.missing)
       return;

@@ -6,9 +6,9 @@
 #include <deal.II/base/utilities.h>
 
 #include <tkr/base/exceptions.h>
-#include <tkr/base/registry.h>
 #include <tkr/parameters/parameters.h>
 
+#include "model_kinds.h"
 #include "parameter_file.h"
 
 namespace TKR::Parameters
@@ -71,7 +71,7 @@ namespace TKR::Parameters
         "paths are taken from this file's directory.");
       // the rate entry of every wear law that has one (ModelEntries::rate)
       std::string rate_entries, rate_laws;
-      for (const auto &[law, entry] : ModelKind::get("wear law").rate_entries())
+      for (const auto &[law, entry] : internal::wear_laws().rate_entries())
         {
           rate_entries += entry + "|";
           rate_laws += (rate_laws.empty() ? "" : ", ") + law + ": " + entry;

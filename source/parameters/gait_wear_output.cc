@@ -4,9 +4,9 @@
 // The parameters of the wear run: subsections Gait, Wear and Output.
 
 #include <tkr/base/exceptions.h>
-#include <tkr/base/registry.h>
 #include <tkr/parameters/parameters.h>
 
+#include "model_kinds.h"
 #include "vector_entry.h"
 
 namespace TKR::Parameters
@@ -17,31 +17,16 @@ namespace TKR::Parameters
 
   namespace
   {
-    // The models are declared by their owners (gait/, wear/), which enter
-    // them into these kinds when libtkr is loaded (base/registry.h): this
-    // layer includes nothing above it.
-    const ModelKind &
-    protocols_kind()
-    {
-      return ModelKind::get("gait protocol");
-    }
-
-    const ModelKind &
-    laws_kind()
-    {
-      return ModelKind::get("wear law");
-    }
-
     /** The protocol, its waveform and the knee's frame. */
     void
     declare_gait_cycle(ParameterHandler &prm)
     {
-      protocols_kind().check_registered();
+      internal::gait_protocols().check_registered();
       prm.declare_entry(
         "Control",
         "force",
-        Patterns::Selection(protocols_kind().names()),
-        protocols_kind().documentation(
+        Patterns::Selection(internal::gait_protocols().names()),
+        internal::gait_protocols().documentation(
           "The gait protocol, how the simulator drives the knee (its own "
           "entries in its subsection below): ") +
           " The waveform file must have the protocol's columns "
@@ -219,7 +204,7 @@ namespace TKR::Parameters
       declare_gait_loads(prm);
       declare_gait_pose(prm);
       declare_gait_adjustments(prm);
-      protocols_kind().declare_parameters(prm);
+      internal::gait_protocols().declare_parameters(prm);
     }
     prm.leave_subsection();
   }
@@ -244,7 +229,7 @@ namespace TKR::Parameters
       largest_initial_overlap    = prm.get_double("Largest initial overlap");
       coupled_pose               = (prm.get("Pose solver") == "coupled");
       femur_ap_offset            = prm.get_double("Femur AP offset");
-      protocols                  = protocols_kind().parse_parameters(prm);
+      protocols = internal::gait_protocols().parse_parameters(prm);
       channel_scales.clear();
       for (const std::string &pair :
            Utilities::split_string_list(prm.get("Channel scales"), ','))
@@ -264,11 +249,11 @@ namespace TKR::Parameters
     void
     declare_wear_law(ParameterHandler &prm)
     {
-      laws_kind().check_registered();
+      internal::wear_laws().check_registered();
       prm.declare_entry("Wear law",
                         "archard",
-                        Patterns::Selection(laws_kind().names()),
-                        laws_kind().documentation(
+                        Patterns::Selection(internal::wear_laws().names()),
+                        internal::wear_laws().documentation(
                           "How the sliding of a gait cycle wears the insert "
                           "(doc/wear.md); each law's constants are in its own "
                           "subsection below: "));
@@ -291,7 +276,7 @@ namespace TKR::Parameters
     prm.enter_subsection("Wear");
     {
       declare_wear_law(prm);
-      laws_kind().declare_parameters(prm);
+      internal::wear_laws().declare_parameters(prm);
       prm.declare_entry("Cycles",
                         "5e6",
                         Patterns::Double(0),
@@ -362,8 +347,8 @@ namespace TKR::Parameters
       law                    = prm.get("Wear law");
       run_in_file            = prm.get("Run-in file");
       cross_shear_definition = prm.get("Cross-shear definition");
-      laws                   = laws_kind().parse_parameters(prm);
-      laws_kind().check(law, laws);
+      laws                   = internal::wear_laws().parse_parameters(prm);
+      internal::wear_laws().check(law, laws);
       cycles = prm.get_double("Cycles");
       cycles_per_extrapolation_step =
         prm.get_double("Cycles per extrapolation step");
@@ -446,8 +431,8 @@ namespace TKR::Parameters
     auto
     of_every_model(const List &list)
     {
-      auto all = list(laws_kind());
-      for (auto &item : list(protocols_kind()))
+      auto all = list(internal::wear_laws());
+      for (auto &item : list(internal::gait_protocols()))
         all.push_back(std::move(item));
       return all;
     }
@@ -471,10 +456,10 @@ namespace TKR::Parameters
   unselected_model_subsections(const AllParameters &parameters)
   {
     std::vector<std::string> unselected;
-    for (const auto &[name, path] : laws_kind().subsections())
+    for (const auto &[name, path] : internal::wear_laws().subsections())
       if (name != parameters.wear.law)
         unselected.push_back(path);
-    for (const auto &[name, path] : protocols_kind().subsections())
+    for (const auto &[name, path] : internal::gait_protocols().subsections())
       if (name != parameters.gait.control)
         unselected.push_back(path);
     return unselected;

@@ -35,7 +35,7 @@ namespace TKR::Problems
       run.state.stiffness_displacement);
     run.model.geometry().set_wear_depth(run.state.depth);
     AssertThrow(run.state.activity_volume.size() ==
-                  (parameters.mix.empty() ? 0 : run.activities.size()),
+                  (run.is_mix() ? run.activities.size() : 0),
                 ExcInternalError());
     run.set_step_starts(run.state.step_starts);
     if (run.state.stiffness_block > 1)

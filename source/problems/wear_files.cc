@@ -117,7 +117,7 @@ namespace TKR::Problems
   {
     const auto &parameters = run.model.parameters();
     const auto &output     = parameters.output;
-    const bool  mix        = !parameters.mix.empty();
+    const bool  mix        = run.is_mix();
     for (unsigned int a = 0; a < run.cycles.size(); ++a)
       {
         Output::write_steps_csv(output.directory,

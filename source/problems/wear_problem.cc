@@ -50,7 +50,7 @@ namespace TKR::Problems
       {
         wear_run.state.cycles_per_block =
           parameters.wear.cycles_per_extrapolation_step;
-        if (!parameters.mix.empty())
+        if (wear_run.is_mix())
           {
             wear_run.state.activity_depth.assign(
               wear_run.activities.size(),
@@ -77,7 +77,7 @@ namespace TKR::Problems
         GaitCycle &c = *wear_run.cycles[a];
         if (first)
           wear_run.model.pcout()
-            << (wear_run.model.parameters().mix.empty() ?
+            << (!wear_run.is_mix() ?
                   std::string() :
                   "Activity " + wear_run.activities[a].name + ", ")
             << "Gait cycle, " << c.n_steps() << " steps:" << std::endl;
@@ -91,6 +91,7 @@ namespace TKR::Problems
           }
       }
   }
+
   // The wear law over each activity's cycle sliding gives each
   // tibia_contact node's depth (of a mix: weighted by the shares); the
   // block's statistics come from the step reports (WearReport).

@@ -167,7 +167,7 @@ namespace TKR::Problems
   void
   WearReport::activities() const
   {
-    if (run.model.parameters().mix.empty())
+    if (!run.is_mix())
       return;
     const double density = run.model.parameters().materials.tibia.density;
     const auto  &area    = run.model.geometry().worn_surface_measures().area;

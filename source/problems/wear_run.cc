@@ -103,7 +103,7 @@ namespace TKR::Problems
   WearRun::activity_names() const
   {
     std::vector<std::string> names;
-    if (!model.parameters().mix.empty())
+    if (is_mix())
       for (const auto &activity : activities)
         names.push_back(activity.slug);
     return names;
@@ -142,12 +142,9 @@ namespace TKR::Problems
       for (unsigned int a = 0; a < cycles.size(); ++a)
         for (const auto &[name, value] :
              cycles[a]->get_protocol().cycle_results(cycles[a]->get_reports()))
-          result.protocol_results.emplace_back(parameters.mix.empty() ?
-                                                 name :
-                                                 "activity_" +
-                                                   activities[a].slug + "_" +
-                                                   name,
-                                               value);
+          result.protocol_results.emplace_back(
+            !is_mix() ? name : "activity_" + activities[a].slug + "_" + name,
+            value);
     result.activity_names = activity_names();
     for (unsigned int a = 0; a < result.activity_names.size(); ++a)
       result.activity_shares.push_back(activities[a].share);

@@ -178,6 +178,13 @@ namespace TKR
     parse_parameters(dealii::ParameterHandler &prm) const;
 
     /**
+     * Throws an input error that names the selecting entry and the known
+     * models if no model is called @p name.
+     */
+    void
+    check_known(const std::string &name) const;
+
+    /**
      * Throws an input error if the model @p name lacks an input with
      * @p parameters (ModelEntries::missing), or if no model is called so.
      */
@@ -278,12 +285,8 @@ namespace TKR
     static const Plugin &
     get(const std::string &name)
     {
-      const auto plugin = plugins().find(name);
-      AssertThrow(plugin != plugins().end(),
-                  ExcInputError(
-                    "Unknown " + kind().selector_path() + " <" + name +
-                    ">; the known ones: " + kind().names(", ") + "."));
-      return plugin->second;
+      kind().check_known(name);
+      return plugins().at(name);
     }
 
     /** The kind as the parameter files see it. */
