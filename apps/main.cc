@@ -9,6 +9,7 @@
 #include <tkr/base/exceptions.h>
 #include <tkr/base/mpi.h>
 #include <tkr/base/registry.h>
+#include <tkr/base/result_schema.h>
 #include <tkr/parameters/parameters.h>
 #include <tkr/problems/calibration_problem.h>
 #include <tkr/problems/contact_problem.h>
@@ -37,6 +38,8 @@ namespace
       << "       tkr-wear --model-example NAME\n"
       << "                                   the entries that run the model "
          "NAME with its example inputs\n"
+      << "       tkr-wear --print-schema     every result file's keys and "
+         "columns (JSON; doc/output.md)\n"
       << "       tkr-wear --help             this text\n"
       << "SIGTERM or SIGUSR1 stops a wear run or a study with a checkpoint "
          "(exit code 3;\n--resume continues it; doc/cluster.md).\n"
@@ -124,6 +127,12 @@ main(int argc, char *argv[])
     {
       if (is_root)
         TKR::Parameters::print_default_parameters(std::cout);
+      return 0;
+    }
+  if (argument == "--print-schema")
+    {
+      if (is_root)
+        TKR::ResultSchema::print(std::cout);
       return 0;
     }
   if (argument == "--list-models")

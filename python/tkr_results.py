@@ -3,12 +3,14 @@
 """The result files of tkr-wear: the names of their keys and columns, and
 their readers.
 
-doc/output.md ("Result files") is the schema: the type, unit and meaning
-of every key of summary.json, status.json and study.json and of every
-column of wear_history.csv, steps.csv, wear_map.csv, wear_map_faces.csv
-and study.csv. This module names the same keys and columns (the ctest
+The program's result schema (`tkr-wear --print-schema`, kept as
+python/result_schema.json) is the type, unit and meaning of every key of
+summary.json, status.json and study.json and of every column of
+wear_history.csv, steps.csv, wear_map.csv, wear_map_faces.csv and
+study.csv; doc/output.md ("Result files") documents the same (the ctest
 `tests/output_schema`, tests/scripts/check_output_schema.py, fails when
-the two differ), so a script reads a key by a name that is documented.
+they differ). This module loads it, so a script reads a key by a name
+that the program writes.
 
 Scripts find it by their own path, nothing is installed:
 
@@ -50,216 +52,69 @@ import re
 import sys
 
 # --------------------------------------------------------------------------
-# The schema (doc/output.md, "Result files")
+# The schema: the program's (`tkr-wear --print-schema`, C++
+# ResultSchema), kept as python/result_schema.json (tests/output_schema
+# fails when the two differ and says how to renew it). Nothing below
+# names a key or column by hand.
+
+SCHEMA_FILE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "result_schema.json")
+
+
+def load_schema(path=SCHEMA_FILE):
+    """{file name: [field, ...]} of the schema at @p path (a field: a dict
+    with name, type, unit, written_by, fields, trace, study, timing,
+    meaning)."""
+    with open(path) as f:
+        return json.load(f)["files"]
+
+
+SCHEMA = load_schema()
 
 WEAR, CONTACT, ELASTICITY = "wear", "contact", "elasticity"
 PROBLEMS = (WEAR, CONTACT, ELASTICITY)
-ALL = PROBLEMS
 
 # JSON types of the keys: a JSON string, an integer, a number (integer or
 # not; null when the run computed no finite value), true/false, a list of
 # objects, an object.
 TYPES = ("string", "integer", "number", "boolean", "list", "object")
 
-# summary.json: key -> (type, the problems that write it), in the order in
-# which a run writes them.
-SUMMARY_KEYS = {
-    "problem": ("string", ALL),
-    "contact_cell_quality_tibia": ("number", ALL),
-    "contact_cell_quality_femur": ("number", ALL),
-    "cells": ("integer", ALL),
-    "femur_volume_mm3": ("number", ALL),
-    "tibia_volume_mm3": ("number", ALL),
-    "dofs": ("integer", ALL),
-    # Problem = wear
-    "cycles": ("number", (WEAR,)),
-    "blocks": ("integer", (WEAR,)),
-    "mass_loss_mg": ("number", (WEAR,)),
-    "volume_loss_mm3": ("number", (WEAR,)),
-    "max_wear_depth_mm": ("number", (WEAR,)),
-    "wear_area_percent": ("number", (WEAR,)),
-    "wear_area_threshold_mm": ("number", (WEAR,)),
-    "mean_cross_shear": ("number", (WEAR,)),
-    "medial_volume_loss_mm3": ("number", (WEAR,)),
-    "medial_mass_loss_mg": ("number", (WEAR,)),
-    "medial_max_wear_depth_mm": ("number", (WEAR,)),
-    "medial_wear_area_percent": ("number", (WEAR,)),
-    "medial_mean_cross_shear": ("number", (WEAR,)),
-    "lateral_volume_loss_mm3": ("number", (WEAR,)),
-    "lateral_mass_loss_mg": ("number", (WEAR,)),
-    "lateral_max_wear_depth_mm": ("number", (WEAR,)),
-    "lateral_wear_area_percent": ("number", (WEAR,)),
-    "lateral_mean_cross_shear": ("number", (WEAR,)),
-    # an activity mix (Gait/Activities): per activity, NAME its name
-    # (schema_name())
-    "activity_NAME_share": ("number", (WEAR,)),
-    "activity_NAME_mass_loss_mg": ("number", (WEAR,)),
-    "activity_NAME_volume_loss_mm3": ("number", (WEAR,)),
-    "activity_NAME_max_wear_depth_mm": ("number", (WEAR,)),
-    "activity_NAME_medial_mass_loss_mg": ("number", (WEAR,)),
-    "activity_NAME_lateral_mass_loss_mg": ("number", (WEAR,)),
-    "activity_NAME_ap_position_range_mm": ("number", (WEAR,)),
-    "activity_NAME_ie_rotation_range_deg": ("number", (WEAR,)),
-    "activity_NAME_max_ap_reaction_N": ("number", (WEAR,)),
-    "activity_NAME_max_ie_reaction_Nm": ("number", (WEAR,)),
-    "ap_position_range_mm": ("number", (WEAR,)),
-    "ie_rotation_range_deg": ("number", (WEAR,)),
-    "max_ap_reaction_N": ("number", (WEAR,)),
-    "max_ie_reaction_Nm": ("number", (WEAR,)),
-    "max_pressure_MPa": ("number", (WEAR, CONTACT)),
-    "steps": ("integer", (WEAR,)),
-    "contact_solves": ("integer", (WEAR,)),
-    "mean_newton_iterations": ("number", (WEAR,)),
-    "pose_fallbacks": ("integer", (WEAR,)),
-    "cut_back_steps": ("integer", (WEAR,)),
-    "sub_steps": ("integer", (WEAR,)),
-    "cycles_per_extrapolation_step": ("number", (WEAR,)),
-    "first_cycle_mass_loss_mg_per_million_cycles": ("number", (WEAR,)),
-    "linear_extrapolation_mass_loss_mg": ("number", (WEAR,)),
-    "run_in_factor": ("list", (WEAR,)),
-    "stiffness_update_interval": ("integer", (WEAR,)),
-    "step_groups": ("integer", (WEAR,)),
-    "unconverged_steps": ("list", (WEAR,)),
-    # Problem = contact
-    "covered_area_mm2": ("number", (CONTACT,)),
-    "contact_area_mm2": ("number", (CONTACT,)),
-    "contact_radius_mm": ("number", (CONTACT,)),
-    "contact_force_N": ("number", (CONTACT,)),
-    "active_nodes": ("integer", (CONTACT,)),
-    "newton_iterations": ("integer", (CONTACT,)),
-    "cg_iterations": ("integer", (CONTACT, ELASTICITY)),
-    "computed_columns": ("integer", (CONTACT,)),
-    "axial_force_balance": ("number", (CONTACT,)),
-    "ipopt_displacement_difference": ("number", (CONTACT,)),
-    "ipopt_pressure_difference": ("number", (CONTACT,)),
-    "hertz_radius_mm": ("number", (CONTACT,)),
-    "hertz_max_pressure_MPa": ("number", (CONTACT,)),
-    "fitted_radius_mm": ("number", (CONTACT,)),
-    "fitted_max_pressure_MPa": ("number", (CONTACT,)),
-    "radius_ratio_fitted": ("number", (CONTACT,)),
-    "radius_ratio_area": ("number", (CONTACT,)),
-    "max_pressure_ratio": ("number", (CONTACT,)),
-    "hertz_within_tolerance": ("boolean", (CONTACT,)),
-    # Problem = elasticity
-    "max_displacement_femur_mm": ("number", (ELASTICITY,)),
-    "max_displacement_tibia_mm": ("number", (ELASTICITY,)),
-    # every run, at its end
-    "converged": ("boolean", ALL),
-    "mpi_ranks": ("integer", ALL),
-    "wall_time_s": ("number", ALL),
-}
+# summary.json: key -> (type, the problems that write it), in the order of
+# the schema.
+SUMMARY_KEYS = {f["name"]: (f["type"], tuple(f["written_by"])) for f in SCHEMA["summary.json"]}
 
 # The fields of the objects of the summary's lists (all numbers).
-SUMMARY_RECORDS = {
-    "run_in_factor": ("cycles", "factor"),
-    "unconverged_steps": ("block", "step", "pose_residual_mm", "contact_converged", "load_balance"),
-}
+SUMMARY_RECORDS = {f["name"]: tuple(f["fields"]) for f in SCHEMA["summary.json"] if f["fields"]}
 
 # wear_history.csv's columns of every run, in the order written (wall_time_s
 # is left out under Output/Testing); an activity mix writes the
 # WEAR_HISTORY_ACTIVITY_COLUMNS of each activity before wall_time_s.
-WEAR_HISTORY_COLUMNS = (
-    "block",
-    "cycles",
-    "volume_mm3",
-    "mass_mg",
-    "max_depth_mm",
-    "wear_area_percent",
-    "peak_pressure_MPa",
-    "max_contact_area_mm2",
-    "medial_volume_mm3",
-    "medial_max_depth_mm",
-    "medial_wear_area_percent",
-    "medial_mean_cross_shear",
-    "lateral_volume_mm3",
-    "lateral_max_depth_mm",
-    "lateral_wear_area_percent",
-    "lateral_mean_cross_shear",
-    "wall_time_s",
-)
-WEAR_HISTORY_ACTIVITY_COLUMNS = (
-    "NAME_volume_mm3",
-    "NAME_mass_mg",
-    "NAME_max_depth_mm",
-    "NAME_medial_volume_mm3",
-    "NAME_lateral_volume_mm3",
-)
+WEAR_HISTORY_COLUMNS = tuple(f["name"] for f in SCHEMA["wear_history.csv"] if "NAME" not in f["name"])
+WEAR_HISTORY_ACTIVITY_COLUMNS = tuple(f["name"] for f in SCHEMA["wear_history.csv"] if "NAME" in f["name"])
 
-# steps.csv: column -> the gait protocols (Gait/Control) that write it, in
-# the order written (the protocol's inputs after `percent`, its pose after
-# `converged`).
-FORCE, DISPLACEMENT = "force", "displacement"
-PROTOCOLS = (FORCE, DISPLACEMENT)
-STEPS_COLUMNS = {
-    "step": PROTOCOLS,
-    "percent": PROTOCOLS,
-    "flexion_deg": PROTOCOLS,
-    "axial_force_N": PROTOCOLS,
-    "ap_force_N": (FORCE,),
-    "ie_torque_Nm": (FORCE,),
-    "ap_displacement_mm": (DISPLACEMENT,),
-    "ie_rotation_deg": PROTOCOLS,  # force: the pose; displacement: the input
-    "active_nodes": PROTOCOLS,
-    "newton_iterations": PROTOCOLS,
-    "pose_updates": PROTOCOLS,
-    "max_pressure_MPa": PROTOCOLS,
-    "contact_force_N": PROTOCOLS,
-    "contact_area_mm2": PROTOCOLS,
-    "converged": PROTOCOLS,
-    "ap_position_mm": (FORCE,),
-    "ap_reaction_N": (DISPLACEMENT,),
-    "ie_reaction_Nm": (DISPLACEMENT,),
-    "ml_position_mm": (DISPLACEMENT,),
-    "axial_position_mm": (DISPLACEMENT,),
-}
+# steps.csv: column -> the gait protocols (Gait/Control) that write it.
+PROTOCOLS = tuple(sorted({w for f in SCHEMA["steps.csv"] for w in f["written_by"]}))
+STEPS_COLUMNS = {f["name"]: tuple(f["written_by"]) or PROTOCOLS for f in SCHEMA["steps.csv"]}
 
-WEAR_MAP_COLUMNS = ("x", "y", "z", "depth_mm", "cross_shear")
-WEAR_MAP_FACES_COLUMNS = ("n0", "n1", "n2", "n3")
+WEAR_MAP_COLUMNS = tuple(f["name"] for f in SCHEMA["wear_map.csv"])
+WEAR_MAP_FACES_COLUMNS = tuple(f["name"] for f in SCHEMA["wear_map_faces.csv"])
 
-# The results of a case's summary.json that study.csv and study.json list
-# (source/problems/study_problem.cc, result_keys).
-STUDY_RESULT_KEYS = (
-    "mass_loss_mg",
-    "volume_loss_mm3",
-    "wear_area_percent",
-    "max_wear_depth_mm",
-    "medial_mass_loss_mg",
-    "lateral_mass_loss_mg",
-    "max_pressure_MPa",
-    "contact_solves",
+# The results of a case's summary.json that study.csv and study.json list.
+STUDY_RESULT_KEYS = tuple(
+    f["name"] for f in sorted((f for f in SCHEMA["summary.json"] if f["study"]), key=lambda f: f["study"])
 )
 # study.csv: `case`, the study's inputs (named by their entry path), then
 # these (wall_time_s is left out under Output/Testing).
-STUDY_CSV_COLUMNS = ("case", "status") + STUDY_RESULT_KEYS + ("wall_time_s", "reason")
+STUDY_CSV_COLUMNS = tuple(f["name"] for f in SCHEMA["study.csv"])
 
-# study.json and the objects of its list `cases`: key -> type.
-STUDY_JSON_KEYS = {
-    "study": "string",
-    "base": "string",
-    "cases": "list",
-    "done": "integer",
-    "failed": "integer",
-}
-STUDY_CASE_KEYS = dict(
-    [("case", "string"), ("inputs", "object"), ("status", "string"), ("reason", "string")]
-    + [(key, SUMMARY_KEYS[key][0]) for key in STUDY_RESULT_KEYS]
-    + [("wall_time_s", "number")]
-)
-
-# A case's status.json: key -> type.
-STATUS_JSON_KEYS = {
-    "case": "string",
-    "status": "string",
-    "reason": "string",
-    "resumed": "boolean",
-    "wall_time_s": "number",
-    "results": "object",
-}
+# study.json, the objects of its list `cases`, a case's status.json: key -> type.
+STUDY_JSON_KEYS = {f["name"]: f["type"] for f in SCHEMA["study.json"]}
+STUDY_CASE_KEYS = {f["name"]: f["type"] for f in SCHEMA["study.json cases"]}
+STATUS_JSON_KEYS = {f["name"]: f["type"] for f in SCHEMA["status.json"]}
 
 # The solver's traces: iteration and solve counts say how the solver got
 # there, not what it computed; compared files leave them out
 # (tests/scripts/without_traces.py).
-TRACES = ("contact_solves", "mean_newton_iterations", "newton_iterations", "cg_iterations", "pose_updates")
+TRACES = tuple(sorted({f["name"] for fields in SCHEMA.values() for f in fields if f["trace"]}))
 
 # The JSON files by name: their keys and types.
 JSON_FILES = {
@@ -268,7 +123,7 @@ JSON_FILES = {
     "study.json": STUDY_JSON_KEYS,
 }
 CSV_FILES = {
-    "wear_history.csv": WEAR_HISTORY_COLUMNS[:-1] + WEAR_HISTORY_ACTIVITY_COLUMNS + WEAR_HISTORY_COLUMNS[-1:],
+    "wear_history.csv": tuple(f["name"] for f in SCHEMA["wear_history.csv"]),
     "steps.csv": tuple(STEPS_COLUMNS),
     "wear_map.csv": WEAR_MAP_COLUMNS,
     "wear_map_faces.csv": WEAR_MAP_FACES_COLUMNS,

@@ -22,11 +22,35 @@ namespace TKR::Gait
 
   namespace
   {
+    /** The protocol's own results (doc/output.md): its inputs (the
+     *  waveform's channels), its pose, its cycle's results. */
+    const ProtocolResults &
+    own_results()
+    {
+      // clang-format off
+      static const ProtocolResults results = {
+        // inputs
+        {{"flexion_deg", "", "deg", {}, "input: the flexion angle"},
+         {"axial_force_N", "", "N", {}, "input: the axial force"},
+         {"ap_displacement_mm", "", "mm", {}, "input: the prescribed AP displacement of the tray"},
+         {"ie_rotation_deg", "", "deg", {}, "force control: the tibia's solved IE rotation (pose); displacement control: the prescribed IE rotation (input)"}},
+        // pose
+        {{"ap_reaction_N", "", "N", {}, "the AP force that held the tray (on the tibia, positive anterior)"},
+         {"ie_reaction_Nm", "", "N m", {}, "the IE torque that held the tray (positive internal)"},
+         {"ml_position_mm", "", "mm", {}, "the tray's solved x (medial-lateral) position"},
+         {"axial_position_mm", "", "mm", {}, "the tray's solved z (axial) position"}},
+        // the cycle's results
+        {{"max_ap_reaction_N", "number", "N", {}, "displacement control's own result: the largest magnitude of the AP force that held the tray (`steps.csv` `ap_reaction_N`) over the last computed cycle; absent under force control and when a resumed run computed no cycle"},
+         {"max_ie_reaction_Nm", "number", "N m", {}, "displacement control's: the largest magnitude of the IE torque that held the tray (`ie_reaction_Nm`) over the last computed cycle; absent as `max_ap_reaction_N`"}}};
+      // clang-format on
+      return results;
+    }
+
     /** The waveform's channels. */
-    const std::vector<std::string> channels = {"flexion_deg",
-                                               "axial_force_N",
-                                               "ap_displacement_mm",
-                                               "ie_rotation_deg"};
+    const std::vector<std::string> channels = names(own_results().inputs);
+
+    [[maybe_unused]] const bool declared =
+      declare_results("displacement", own_results());
 
     /** The pose's numbers: the tray's x and z (mm). */
     constexpr unsigned int pose_size = 2;
@@ -362,7 +386,8 @@ namespace TKR::Gait
         ap = std::max(ap, std::abs(report.pose_values.at(0)));
         ie = std::max(ie, std::abs(report.pose_values.at(1)));
       }
-    return {{"max_ap_reaction_N", ap}, {"max_ie_reaction_Nm", ie}};
+    const auto &cycle = own_results().cycle;
+    return {{cycle[0].name, ap}, {cycle[1].name, ie}};
   }
 
   std::vector<std::string>
@@ -374,10 +399,7 @@ namespace TKR::Gait
   std::vector<std::string>
   DisplacementControl::pose_columns() const
   {
-    return {"ap_reaction_N",
-            "ie_reaction_Nm",
-            "ml_position_mm",
-            "axial_position_mm"};
+    return names(own_results().pose);
   }
 
   std::string

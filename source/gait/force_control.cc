@@ -19,11 +19,33 @@ namespace TKR::Gait
 
   namespace
   {
+    /** The protocol's own results (doc/output.md): its inputs (the
+     *  waveform's channels), its pose, its cycle's results. */
+    const ProtocolResults &
+    own_results()
+    {
+      // clang-format off
+      static const ProtocolResults results = {
+        // inputs
+        {{"flexion_deg", "", "deg", {}, "input: the flexion angle"},
+         {"axial_force_N", "", "N", {}, "input: the axial force"},
+         {"ap_force_N", "", "N", {}, "input: the AP force on the tibia"},
+         {"ie_torque_Nm", "", "N m", {}, "input: the IE torque on the tibia"}},
+        // pose
+        {{"ap_position_mm", "", "mm", {}, "pose: the tibia's solved AP position"},
+         {"ie_rotation_deg", "", "deg", {}, "force control: the tibia's solved IE rotation (pose); displacement control: the prescribed IE rotation (input)"}},
+        // the cycle's results
+        {{"ap_position_range_mm", "number", "mm", {}, "force control's own result (`Gait::Protocol::cycle_results()`): the range (largest minus smallest) of the tibia's AP position (`steps.csv` `ap_position_mm`) over the last computed cycle; absent under displacement control and when a resumed run computed no cycle"},
+         {"ie_rotation_range_deg", "number", "deg", {}, "force control's: the range of the tibia's IE rotation (`ie_rotation_deg`) over the last computed cycle; absent as `ap_position_range_mm`"}}};
+      // clang-format on
+      return results;
+    }
+
     /** The waveform's channels. */
-    const std::vector<std::string> channels = {"flexion_deg",
-                                               "axial_force_N",
-                                               "ap_force_N",
-                                               "ie_torque_Nm"};
+    const std::vector<std::string> channels = names(own_results().inputs);
+
+    [[maybe_unused]] const bool declared =
+      declare_results("force", own_results());
 
     /** The restraints' entries (`Gait/Force control`). */
     void
@@ -422,8 +444,9 @@ namespace TKR::Gait
           low[i]             = (s == 0 ? value : std::min(low[i], value));
           high[i]            = (s == 0 ? value : std::max(high[i], value));
         }
-    return {{"ap_position_range_mm", high[0] - low[0]},
-            {"ie_rotation_range_deg", high[1] - low[1]}};
+    const auto &cycle = own_results().cycle;
+    return {{cycle[0].name, high[0] - low[0]},
+            {cycle[1].name, high[1] - low[1]}};
   }
 
   std::vector<std::string>
@@ -435,7 +458,7 @@ namespace TKR::Gait
   std::vector<std::string>
   ForceControl::pose_columns() const
   {
-    return {"ap_position_mm", "ie_rotation_deg"};
+    return names(own_results().pose);
   }
 
   std::string

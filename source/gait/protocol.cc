@@ -47,4 +47,48 @@ namespace TKR::Gait
               parameters.protocols.of(parameters.control),
               measure_inferior_surface(triangulation));
   }
+  bool
+  declare_results(const std::string &name, const ProtocolResults &results)
+  {
+    const auto written = [&name](std::vector<ResultField> fields,
+                                 const std::string       &prefix = "") {
+      for (ResultField &field : fields)
+        {
+          field.writers = {name};
+          field.name    = prefix + field.name;
+        }
+      return fields;
+    };
+    // Mixes' per-activity results carry the writer `wear` (the problem).
+    auto per_activity = written(results.cycle, "activity_NAME_");
+    for (ResultField &field : per_activity)
+      {
+        field.meaning = "of a mix, `" + field.name.substr(14) +
+                        "` of the activity's last cycle (" + name + " control)";
+        field.writers = {"wear"};
+      }
+    auto cycle = written(results.cycle);
+    for (ResultField &field : cycle)
+      field.writers = {"wear"};
+    // The positions between the wear run's own results (run_result.cc).
+    return ResultSchema::declare("steps.csv",
+                                 15,
+                                 written(results.inputs),
+                                 name) &&
+           ResultSchema::declare("steps.csv",
+                                 30,
+                                 written(results.pose),
+                                 name) &&
+           ResultSchema::declare("summary.json", 23, per_activity, name) &&
+           ResultSchema::declare("summary.json", 24, cycle, name);
+  }
+
+  std::vector<std::string>
+  names(const std::vector<ResultField> &fields)
+  {
+    std::vector<std::string> result;
+    for (const ResultField &field : fields)
+      result.push_back(field.name);
+    return result;
+  }
 } // namespace TKR::Gait

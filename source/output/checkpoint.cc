@@ -11,6 +11,7 @@
 #include <tkr/base/exceptions.h>
 #include <tkr/base/mpi.h>
 #include <tkr/output/checkpoint.h>
+#include <tkr/wear/run_result.h>
 
 #include <algorithm>
 #include <cmath>
@@ -40,18 +41,40 @@ namespace TKR::Output
     constexpr unsigned int cut_back_format = 7;
     /** The first format with the activities of a mix. */
     constexpr unsigned int activities_format = 6;
-    /** Columns of an activity in the activity_history dataset
-     *  (Wear::ActivityResult). */
-    constexpr unsigned int n_activity_columns = 5;
     /** The first format with pose_fallbacks. */
     constexpr unsigned int pose_fallbacks_format = 4;
     /** The first format with the previous poses of the steps. */
     constexpr unsigned int previous_pose_format = 5;
-    /** Columns of the history dataset (Wear::BlockResult). */
-    constexpr unsigned int n_history_columns = 9;
-    /** Columns of the sides dataset (Wear::SideResult, medial then
-     *  lateral). */
-    constexpr unsigned int n_side_columns = 8;
+    // The datasets of the results hold a record's values in the order of
+    // its columns (Wear::block_columns() and the others, the schema).
+    const unsigned int n_history_columns  = Wear::block_columns().size();
+    const unsigned int n_side_columns     = 2 * Wear::side_columns().size();
+    const unsigned int n_activity_columns = Wear::activity_columns().size();
+    const unsigned int n_failed_columns   = Wear::failed_step_columns().size();
+
+    /** @p record's values, in the order of @p columns, after @p values. */
+    template <typename Record>
+    void
+    append(std::vector<double>                     &values,
+           const std::vector<ResultColumn<Record>> &columns,
+           const Record                            &record)
+    {
+      for (const auto &column : columns)
+        values.push_back(column.get(record));
+    }
+
+    /** The record whose values (in the order of @p columns) start at
+     *  @p values. */
+    template <typename Record>
+    Record
+    record(const std::vector<ResultColumn<Record>> &columns,
+           const double                            *values)
+    {
+      Record result;
+      for (unsigned int i = 0; i < columns.size(); ++i)
+        columns[i].set(result, values[i]);
+      return result;
+    }
 
     /** A dataset of @p values with the dimensions @p dimensions. */
     template <typename T>
@@ -228,25 +251,14 @@ namespace TKR::Output
     void
     write_history(HDF5::File &file, const std::vector<Wear::BlockResult> &rows)
     {
-      std::vector<double> history;
+      std::vector<double> history, sides;
       for (const auto &r : rows)
-        history.insert(history.end(),
-                       {double(r.block),
-                        r.cycles,
-                        r.volume,
-                        r.mass,
-                        r.max_depth,
-                        r.wear_area_percent,
-                        r.peak_pressure,
-                        r.max_contact_area,
-                        r.wall_time});
+        {
+          append(history, Wear::block_columns(), r);
+          append(sides, Wear::side_columns(), r.medial);
+          append(sides, Wear::side_columns(), r.lateral);
+        }
       write_dataset(file, "history", history, {rows.size(), n_history_columns});
-      std::vector<double> sides;
-      for (const auto &r : rows)
-        for (const auto &s : {r.medial, r.lateral})
-          sides.insert(
-            sides.end(),
-            {s.volume, s.max_depth, s.wear_area_percent, s.mean_cross_shear});
       write_dataset(file, "sides", sides, {rows.size(), n_side_columns});
     }
 
@@ -257,29 +269,17 @@ namespace TKR::Output
       const auto history = read_dataset<double>(file, "history");
       for (unsigned int i = 0; i + n_history_columns <= history.size();
            i += n_history_columns)
-        {
-          const double *h = &history[i];
-          rows.push_back({static_cast<unsigned int>(h[0]),
-                          h[1],
-                          h[2],
-                          h[3],
-                          h[4],
-                          h[5],
-                          h[6],
-                          h[7],
-                          h[8],
-                          {}, // the sides: below
-                          {},
-                          {}}); // the activities: read_activities()
-        }
+        // (the sides below; the activities: read_activities())
+        rows.push_back(record(Wear::block_columns(), &history[i]));
       const auto sides = read_dataset<double>(file, "sides");
       for (unsigned int i = 0;
            i < rows.size() && n_side_columns * (i + 1) <= sides.size();
            ++i)
         {
           const double *s = &sides[n_side_columns * i];
-          rows[i].medial  = {s[0], s[1], s[2], s[3]};
-          rows[i].lateral = {s[4], s[5], s[6], s[7]};
+          rows[i].medial  = record(Wear::side_columns(), s);
+          rows[i].lateral =
+            record(Wear::side_columns(), s + Wear::side_columns().size());
         }
       return rows;
     }
@@ -292,13 +292,11 @@ namespace TKR::Output
                          static_cast<unsigned int>(failed.size()));
       std::vector<double> values;
       for (const auto &f : failed)
-        values.insert(values.end(),
-                      {double(f.block),
-                       double(f.step),
-                       f.pose_residual,
-                       f.contact_converged ? 1. : 0.,
-                       f.load_balance});
-      write_dataset(file, "failed_steps", values, {failed.size(), 5});
+        append(values, Wear::failed_step_columns(), f);
+      write_dataset(file,
+                    "failed_steps",
+                    values,
+                    {failed.size(), n_failed_columns});
     }
 
     std::vector<Wear::FailedStep>
@@ -308,27 +306,12 @@ namespace TKR::Output
       if (file.get_attribute<unsigned int>("n_failed_steps") == 0)
         return failed;
       const auto values = read_dataset<double>(file, "failed_steps");
-      for (unsigned int i = 0; i + 5 <= values.size(); i += 5)
-        failed.push_back({static_cast<unsigned int>(values[i]),
-                          static_cast<unsigned int>(values[i + 1]),
-                          values[i + 2],
-                          values[i + 3] != 0.,
-                          values[i + 4]});
+      for (unsigned int i = 0; i + n_failed_columns <= values.size();
+           i += n_failed_columns)
+        failed.push_back(record(Wear::failed_step_columns(), &values[i]));
       return failed;
     }
 
-    /** Wear::ActivityResult's values in the order of the datasets. */
-    std::vector<double>
-    activity_values(const Wear::ActivityResult &a)
-    {
-      return {a.volume, a.mass, a.max_depth, a.medial_volume, a.lateral_volume};
-    }
-
-    Wear::ActivityResult
-    activity_result(const double *v)
-    {
-      return {v[0], v[1], v[2], v[3], v[4]};
-    }
 
     /** The activities of a mix: their depth, volumes and history. */
     void
@@ -344,16 +327,15 @@ namespace TKR::Output
           depth.insert(depth.end(),
                        state.activity_depth[a].begin(),
                        state.activity_depth[a].end());
-          const auto v = activity_values(state.activity_volume[a]);
-          volume.insert(volume.end(), v.begin(), v.end());
+          append(volume, Wear::activity_columns(), state.activity_volume[a]);
         }
       for (const auto &row : state.history)
         for (unsigned int a = 0; a < n; ++a)
           {
-            const auto v = activity_values(a < row.activities.size() ?
-                                             row.activities[a] :
-                                             Wear::ActivityResult());
-            history.insert(history.end(), v.begin(), v.end());
+            append(history,
+                   Wear::activity_columns(),
+                   a < row.activities.size() ? row.activities[a] :
+                                               Wear::ActivityResult());
           }
       write_dataset(file, "activity_depth", depth, {n, state.depth.size()});
       write_dataset(file, "activity_volume", volume, {n, n_activity_columns});
@@ -389,12 +371,13 @@ namespace TKR::Output
                                             depth.begin() +
                                               (a + 1) * n_vertices);
           state.activity_volume.push_back(
-            activity_result(&volume[a * n_activity_columns]));
+            record(Wear::activity_columns(), &volume[a * n_activity_columns]));
         }
       for (unsigned int r = 0; r < state.history.size(); ++r)
         for (unsigned int a = 0; a < n; ++a)
           state.history[r].activities.push_back(
-            activity_result(&history[(r * n + a) * n_activity_columns]));
+            record(Wear::activity_columns(),
+                   &history[(r * n + a) * n_activity_columns]));
     }
 
     /** The checkpoint was written by this format and these parameters. */

@@ -4,6 +4,7 @@
 #include <tkr/base/atomic_file.h>
 #include <tkr/base/exceptions.h>
 #include <tkr/base/mpi.h>
+#include <tkr/base/result_schema.h>
 #include <tkr/output/summary.h>
 
 #include <cmath>
@@ -15,32 +16,18 @@
 
 namespace TKR::Output
 {
-  std::string
-  json_string(const std::string &text)
-  {
-    std::string result = "\"";
-    for (const char c : text)
-      if (c == '"' || c == '\\')
-        result += std::string("\\") + c;
-      else if (c == '\n')
-        result += "\\n";
-      else if (static_cast<unsigned char>(c) < 0x20)
-        {
-          char escaped[7];
-          std::snprintf(escaped,
-                        sizeof(escaped),
-                        "\\u%04x",
-                        static_cast<unsigned int>(c));
-          result += escaped;
-        }
-      else
-        result += c;
-    return result + "\"";
-  }
+  Summary::Summary(const std::string &file)
+    : file(file)
+  {}
 
   void
   Summary::set_raw(const std::string &key, const std::string &json_value)
   {
+    AssertThrow(file.empty() || ResultSchema::find(file, key) != nullptr,
+                dealii::ExcMessage("The result <" + key + "> of <" + file +
+                                   "> is not in the result schema: declare "
+                                   "it where it is computed "
+                                   "(ResultSchema::declare)."));
     for (auto &entry : entries)
       if (entry.first == key)
         {

@@ -24,6 +24,87 @@ namespace TKR::Output
 
   namespace
   {
+    /** steps.csv's columns of every protocol, after its inputs. */
+    const std::vector<ResultColumn<Gait::StepReport>> &
+    step_columns()
+    {
+      using Report = Gait::StepReport;
+      // clang-format off
+      static const std::vector<ResultColumn<Report>> table = {
+        member_column<Report>({"active_nodes", "", "-", {}, "nodes in contact"},
+         &Report::active_nodes),
+        member_column<Report>({"newton_iterations", "", "-", {}, "active-set iterations of the step (a trace)", {}, true},
+         &Report::newton_iterations),
+        member_column<Report>({"pose_updates", "", "-", {}, "pose updates of the step (a trace)", {}, true},
+         &Report::pose_updates),
+        member_column<Report>({"max_pressure_MPa", "", "MPa", {}, "the largest nodal contact pressure"},
+         &Report::max_pressure),
+        member_column<Report>({"contact_force_N", "", "N", {}, "the magnitude of the contact force"},
+         &Report::contact_force),
+        member_column<Report>({"contact_area_mm2", "", "mm^2", {}, "the contact area"},
+         &Report::contact_area),
+        member_column<Report>({"converged", "", "-", {}, "1 if the step converged (contact, pose and load balance), else 0"},
+         &Report::converged)};
+      // clang-format on
+      return table;
+    }
+
+    std::vector<ResultField>
+    step_fields()
+    {
+      std::vector<ResultField> fields;
+      for (const auto &column : step_columns())
+        fields.push_back(column.field);
+      return fields;
+    }
+
+    // The protocols' inputs go at 15, their pose at 30 (Gait::Protocol).
+    [[maybe_unused]] const bool declared =
+      ResultSchema::declare(
+        "steps.csv",
+        10,
+        {{"step", "", "-", {}, "the step, from 0"},
+         {"percent", "", "%", {}, "the instant in the gait cycle"}}) &&
+      ResultSchema::declare("steps.csv", 20, step_fields()) &&
+      ResultSchema::declare(
+        "wear_map.csv",
+        10,
+        {{"x", "", "mm", {}, "node position, medial-lateral"},
+         {"y", "", "mm", {}, "node position, anterior-posterior"},
+         {"z", "", "mm", {}, "node position, proximal"},
+         {"depth_mm", "", "mm", {}, "accumulated wear depth at the node"},
+         {"cross_shear",
+          "",
+          "-",
+          {},
+          "the cross-shear ratio of the node's sliding in the last computed cycle (doc/wear.md, \"Cross-shear\"); absent when a resumed run computed no cycle"}}) &&
+      ResultSchema::declare(
+        "wear_map_faces.csv",
+        10,
+        {{"n0",
+          "",
+          "-",
+          {},
+          "0-based index of the face's first node in the data rows of `wear_map.csv` (row 0 = the first row after the header)"},
+         {"n1",
+          "",
+          "-",
+          {},
+          "the second node, in cyclic order around the face"},
+         {"n2", "", "-", {}, "the third node"},
+         {"n3", "", "-", {}, "the fourth node"}});
+
+    /** The names of @p file's columns, joined by commas, but @p left_out. */
+    std::string
+    header(const std::string &file, const std::string &left_out = "")
+    {
+      std::string names;
+      for (const ResultField &field : ResultSchema::fields(file))
+        if (field.name != left_out)
+          names += (names.empty() ? "" : ",") + field.name;
+      return names;
+    }
+
     /** wear_history.csv on this rank (write_wear_history() on rank 0). */
     void
     write_history_file(const std::string                    &directory,
@@ -72,8 +153,8 @@ namespace TKR::Output
     csv << "step,percent";
     for (const auto &column : protocol.input_columns())
       csv << ',' << column;
-    csv << ",active_nodes,newton_iterations,pose_updates,"
-           "max_pressure_MPa,contact_force_N,contact_area_mm2,converged";
+    for (const auto &column : step_columns())
+      csv << ',' << column.field.name;
     for (const auto &column : protocol.pose_columns())
       csv << ',' << column;
     csv << '\n' << std::setprecision(10);
@@ -83,9 +164,8 @@ namespace TKR::Output
         csv << i << ',' << r.input.percent;
         for (const double value : r.input.values)
           csv << ',' << value;
-        csv << ',' << r.active_nodes << ',' << r.newton_iterations << ','
-            << r.pose_updates << ',' << r.max_pressure << ',' << r.contact_force
-            << ',' << r.contact_area << ',' << r.converged;
+        for (const auto &column : step_columns())
+          csv << ',' << column.get(r);
         for (const double value : r.pose_values)
           csv << ',' << value;
         csv << '\n';
@@ -110,11 +190,12 @@ namespace TKR::Output
       }
     std::vector<Summary::Record> failed;
     for (const auto &f : result.failed_steps)
-      failed.push_back({{"block", f.block},
-                        {"step", f.step},
-                        {"pose_residual_mm", f.pose_residual},
-                        {"contact_converged", f.contact_converged ? 1. : 0.},
-                        {"load_balance", f.load_balance}});
+      {
+        Summary::Record record;
+        for (const auto &column : Wear::failed_step_columns())
+          record.emplace_back(column.field.name, column.get(f));
+        failed.push_back(record);
+      }
     summary.set("unconverged_steps", failed);
   }
 
@@ -137,39 +218,53 @@ namespace TKR::Output
                        const std::vector<std::string>       &activities,
                        const bool                            testing)
     {
+      // The block's columns, each side's, each activity's, then the wall
+      // time (none under Output/Testing).
+      const auto own = [testing](const ResultField &field, const bool last) {
+        return field.timing == last && !(testing && field.timing);
+      };
       std::ostringstream csv;
-      {
-        csv << "block,cycles,volume_mm3,mass_mg,max_depth_mm,"
-               "wear_area_percent,peak_pressure_MPa,max_contact_area_mm2";
-        for (const std::string side : {"medial", "lateral"})
-          csv << ',' << side << "_volume_mm3," << side << "_max_depth_mm,"
-              << side << "_wear_area_percent," << side << "_mean_cross_shear";
-        for (const std::string &a : activities)
-          csv << ',' << a << "_volume_mm3," << a << "_mass_mg," << a
-              << "_max_depth_mm," << a << "_medial_volume_mm3," << a
-              << "_lateral_volume_mm3";
-        csv << (testing ? "" : ",wall_time_s") << '\n' << std::setprecision(10);
-        for (const auto &r : rows)
-          {
-            csv << r.block << ',' << r.cycles << ',' << r.volume << ','
-                << r.mass << ',' << r.max_depth << ',' << r.wear_area_percent
-                << ',' << r.peak_pressure << ',' << r.max_contact_area;
-            for (const auto &s : {r.medial, r.lateral})
-              csv << ',' << s.volume << ',' << s.max_depth << ','
-                  << s.wear_area_percent << ',' << s.mean_cross_shear;
-            for (unsigned int a = 0; a < activities.size(); ++a)
-              {
-                const Wear::ActivityResult x = a < r.activities.size() ?
-                                                 r.activities[a] :
-                                                 Wear::ActivityResult();
-                csv << ',' << x.volume << ',' << x.mass << ',' << x.max_depth
-                    << ',' << x.medial_volume << ',' << x.lateral_volume;
-              }
-            if (!testing)
-              csv << ',' << r.wall_time;
-            csv << '\n';
-          }
-      }
+      std::string        header;
+      for (const bool last : {false, true})
+        {
+          for (const auto &column : Wear::block_columns())
+            if (own(column.field, last))
+              header += ',' + column.field.name;
+          if (last)
+            break;
+          for (const std::string side : {"medial", "lateral"})
+            for (const auto &column : Wear::side_columns())
+              header += ',' + with_name(column.field.name, side);
+          for (const std::string &a : activities)
+            for (const auto &column : Wear::activity_columns())
+              header += ',' + with_name(column.field.name, a);
+        }
+      csv << header.substr(1) << '\n' << std::setprecision(10);
+      for (const auto &r : rows)
+        {
+          std::string separator;
+          for (const bool last : {false, true})
+            {
+              for (const auto &column : Wear::block_columns())
+                if (own(column.field, last))
+                  {
+                    csv << separator << column.get(r);
+                    separator = ",";
+                  }
+              if (last)
+                break;
+              for (const auto &side : {r.medial, r.lateral})
+                for (const auto &column : Wear::side_columns())
+                  csv << ',' << column.get(side);
+              for (unsigned int a = 0; a < activities.size(); ++a)
+                for (const auto &column : Wear::activity_columns())
+                  csv << ','
+                      << column.get(a < r.activities.size() ?
+                                      r.activities[a] :
+                                      Wear::ActivityResult());
+            }
+          csv << '\n';
+        }
       write_atomically(directory + "/wear_history.csv", csv.str());
     }
   } // namespace
@@ -304,7 +399,7 @@ namespace TKR::Output
       activity_depth ? *activity_depth : geometry.wear_depth();
     const bool         with_cs = cross_shear.size() == surface.nodes().size();
     std::ostringstream nodes;
-    nodes << "x,y,z,depth_mm" << (with_cs ? ",cross_shear" : "") << '\n'
+    nodes << header("wear_map.csv", with_cs ? "" : "cross_shear") << '\n'
           << std::setprecision(10);
     for (unsigned int j = 0; j < surface.nodes().size(); ++j)
       {
@@ -322,7 +417,7 @@ namespace TKR::Output
     // deal.II numbers a face's vertices lexicographically: 0, 1, 3, 2 go
     // around it.
     std::ostringstream faces;
-    faces << "n0,n1,n2,n3\n";
+    faces << header("wear_map_faces.csv") << '\n';
     for (const auto &face : surface.faces())
       faces << face.nodes[0] << ',' << face.nodes[1] << ',' << face.nodes[3]
             << ',' << face.nodes[2] << '\n';

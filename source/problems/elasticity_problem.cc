@@ -5,12 +5,38 @@
 
 #include <deal.II/numerics/vector_tools.h>
 
+#include <tkr/base/result_schema.h>
 #include <tkr/mesh/mesh.h>
 #include <tkr/output/solution_output.h>
 #include <tkr/problems/elasticity_problem.h>
 
 namespace TKR::Problems
 {
+  namespace
+  {
+    // The elasticity problem's keys of summary.json (two_body_model.cc).
+    [[maybe_unused]] const bool declared = ResultSchema::declare(
+      "summary.json",
+      70,
+      {{"cg_iterations",
+        "integer",
+        "-",
+        {"elasticity"},
+        "CG iterations: of the elasticity solve; of the AMG-CG active set (contact, only when it used CG) (a trace)",
+        {},
+        true},
+       {"max_displacement_femur_mm",
+        "number",
+        "mm",
+        {"elasticity"},
+        "the femur's largest displacement"},
+       {"max_displacement_tibia_mm",
+        "number",
+        "mm",
+        {"elasticity"},
+        "the tibia's largest displacement"}});
+  } // namespace
+
   using namespace dealii;
 
   ElasticityProblem::ElasticityProblem(

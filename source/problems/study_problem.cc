@@ -6,6 +6,7 @@
 #include <tkr/base/atomic_file.h>
 #include <tkr/base/exceptions.h>
 #include <tkr/base/process.h>
+#include <tkr/base/result_schema.h>
 #include <tkr/output/summary.h>
 #include <tkr/output/wear_output.h>
 #include <tkr/problems/study_problem.h>
@@ -27,16 +28,109 @@ namespace TKR::Problems
 
   namespace
   {
-    /** The results of a case (Wear::RunResult::named_values(), kept in
-     *  its status.json) that study.csv lists. */
-    const std::vector<std::string> result_keys = {"mass_loss_mg",
-                                                  "volume_loss_mm3",
-                                                  "wear_area_percent",
-                                                  "max_wear_depth_mm",
-                                                  "medial_mass_loss_mg",
-                                                  "lateral_mass_loss_mg",
-                                                  "max_pressure_MPa",
-                                                  "contact_solves"};
+    /**
+     * The results of a case that study.csv and study.json list: the
+     * results of summary.json that are ResultField::study (kept in the
+     * case's status.json), with their type in a JSON file (@p json).
+     */
+    std::vector<ResultField>
+    study_fields(const bool json)
+    {
+      std::vector<ResultField> fields;
+      for (const std::string &name : ResultSchema::study_results())
+        {
+          ResultField field = *ResultSchema::find("summary.json", name);
+          field.meaning     = "the case's `summary.json` value" +
+                          std::string(field.trace ? " (a trace)" : "");
+          field.writers.clear();
+          field.study = 0;
+          if (!json)
+            field.type.clear();
+          fields.push_back(field);
+        }
+      return fields;
+    }
+
+    // study.csv, study.json (its keys, and those of each object of its
+    // `cases`: "study.json cases") and status.json; the results of a case
+    // are the results of summary.json that are ResultField::study.
+    [[maybe_unused]] const bool declared =
+      ResultSchema::declare(
+        "study.csv",
+        10,
+        {{"case", "", "-", {}, "the case, `case-NNNN` (its directory)"},
+         {"status", "", "-", {}, "`done` or `failed`"}}) &&
+      ResultSchema::declare_derived("study.csv",
+                                    50,
+                                    [] { return study_fields(false); }) &&
+      ResultSchema::declare(
+        "study.csv",
+        90,
+        {{"wall_time_s",
+          "",
+          "s",
+          {},
+          "the case's wall time (`status.json`); absent under `Output/Testing = true`",
+          {},
+          false,
+          false,
+          true},
+         {"reason",
+          "",
+          "-",
+          {},
+          "why a case failed (the run's error message), empty if done"}}) &&
+      ResultSchema::declare(
+        "study.json",
+        10,
+        {{"study", "string", "-", {}, "the study file"},
+         {"base", "string", "-", {}, "its `Study/Base parameter file`"},
+         {"cases", "list", "-", {}, "one object per case (below)"},
+         {"done", "integer", "-", {}, "cases done"},
+         {"failed", "integer", "-", {}, "cases failed (or not run)"}}) &&
+      ResultSchema::declare(
+        "study.json cases",
+        10,
+        {{"case", "string", "-", {}, "the case, `case-NNNN`"},
+         {"inputs",
+          "object",
+          "-",
+          {},
+          "the case's values (strings) by entry path"},
+         {"status", "string", "-", {}, "`done` or `failed`"},
+         {"reason", "string", "-", {}, "why it failed, empty if done"}}) &&
+      ResultSchema::declare_derived("study.json cases",
+                                    50,
+                                    [] { return study_fields(true); }) &&
+      ResultSchema::declare(
+        "study.json cases",
+        90,
+        {{"wall_time_s",
+          "number",
+          "s",
+          {},
+          "the case's wall time; absent under `Output/Testing = true`",
+          {},
+          false,
+          false,
+          true}}) &&
+      ResultSchema::declare(
+        "status.json",
+        10,
+        {{"case", "string", "-", {}, "the case, `case-NNNN`"},
+         {"status", "string", "-", {}, "`done` or `failed`"},
+         {"reason", "string", "-", {}, "why it failed, empty if done"},
+         {"resumed",
+          "boolean",
+          "-",
+          {},
+          "whether the case continued from its checkpoint"},
+         {"wall_time_s", "number", "-", {}, "the case's wall time (s)"},
+         {"results",
+          "object",
+          "-",
+          {},
+          "a done case's results: every scalar key of its `summary.json` (the run's `Wear::RunResult`) with the same value; `study.csv` and `study.json` are written from these, and a done case that lacks one of theirs is listed as failed with a reason naming the key"}});
 
     std::string
     csv_field(const std::string &text)
@@ -94,7 +188,7 @@ namespace TKR::Problems
       auto      &status = read.fields;
       if (status.empty())
         status = {{"status", "failed"}, {"reason", "not run"}};
-      for (const std::string &key : result_keys)
+      for (const std::string &key : ResultSchema::study_results())
         if (status["status"] == "done" && read.results.count(key) == 0)
           status = {{"status", "failed"},
                     {"reason",
@@ -187,7 +281,7 @@ namespace TKR::Problems
       csv << "," << status["status"];
       json << "}, \"status\": " << Output::json_string(status["status"])
            << ", \"reason\": " << Output::json_string(status["reason"]);
-      for (const std::string &key : result_keys)
+      for (const std::string &key : ResultSchema::study_results())
         {
           const std::string value =
             status["status"] == "done" ? read.results.at(key) : "";
@@ -489,7 +583,7 @@ namespace TKR::Problems
       return false;
     // The case's status and, if it is done, its results: what the study's
     // table is written from (output_results()).
-    Output::Summary json;
+    Output::Summary json("status.json");
     json.set("case", cases[index].name);
     json.set("status", outcome.status);
     json.set("reason", outcome.reason);
@@ -524,7 +618,7 @@ namespace TKR::Problems
     for (const std::string &name : inputs)
       csv << "," << csv_field(name);
     csv << ",status";
-    for (const std::string &key : result_keys)
+    for (const std::string &key : ResultSchema::study_results())
       csv << "," << key;
     if (!parameters.output.testing)
       csv << ",wall_time_s";

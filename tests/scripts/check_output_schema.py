@@ -1,9 +1,15 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The schema of the result files cannot drift: doc/output.md documents
-exactly the keys and columns that python/tkr_results.py names.
+exactly the keys and columns of the program's schema, which
+python/tkr_results.py loads from python/result_schema.json.
 
-    check_output_schema.py DOC [RESULT_FILE_OR_DIR...]
+    check_output_schema.py DOC [--program TKR_WEAR] [RESULT_FILE_OR_DIR...]
+
+With --program, first compares python/result_schema.json with the output
+of `TKR_WEAR --print-schema` (the C++ ResultSchema): they must be equal.
+Then compares the unit and the meaning of every documented key and column
+with the schema's.
 
 Reads the tables of DOC's sections `### \\`FILE\\`` ("Result files") and
 compares them with tkr_results: the files, every key and column in the
@@ -16,8 +22,10 @@ against the schema (tkr_results.check_file). Prints each difference and
 fails if there is any, so that a key cannot be added, renamed or dropped on
 one side only.
 """
+import json
 import os
 import re
+import subprocess
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
@@ -143,8 +151,51 @@ def check_doc(doc):
     return problems
 
 
+def check_program(program):
+    """python/result_schema.json against `program --print-schema`."""
+    printed = subprocess.run([program, "--print-schema"], capture_output=True, text=True, check=True).stdout
+    if json.loads(printed) == json.load(open(tkr_results.SCHEMA_FILE)):
+        return []
+    return [
+        "python/result_schema.json is not the program's schema: renew it with "
+        f"`{program} --print-schema > python/result_schema.json`"
+    ]
+
+
+def check_text(doc):
+    """The unit and the meaning of each documented key and column against
+    the schema's (the tables' columns: key | type | unit | written by |
+    meaning for summary.json, column | unit | [written by |] meaning for a
+    CSV file, key | type | meaning for the other JSON files)."""
+    problems = []
+    tables = documented_tables(doc)
+    files = [(name, tables[name][0]) for name in tables]
+    files.append(("study.json cases", tables["study.json"][1]))
+    for name, rows in files:
+        fields = {f["name"]: f for f in tkr_results.SCHEMA[name]}
+        for row in rows:
+            field = fields.get(row[0])
+            if field is None:
+                continue
+            unit = row[2] if name == "summary.json" else row[1] if name.endswith(".csv") else None
+            if unit is not None and unit != field["unit"]:
+                problems.append(
+                    f"{name}: {row[0]}: unit {unit} in doc/output.md, {field['unit']} in the program"
+                )
+            if row[-1] != field["meaning"]:
+                problems.append(
+                    f"{name}: {row[0]}: the meaning in doc/output.md is not the program's:\n"
+                    f"    doc:     {row[-1]}\n    program: {field['meaning']}"
+                )
+    return problems
+
+
 def main(doc, paths):
-    problems = check_doc(doc)
+    problems = []
+    if paths[:1] == ["--program"]:
+        problems += check_program(paths[1])
+        paths = paths[2:]
+    problems += check_doc(doc) + check_text(doc)
     files = tkr_results.result_files(paths)
     for path in files:
         problems += tkr_results.check_file(path)

@@ -11,6 +11,7 @@
 #include <deal.II/lac/affine_constraints.h>
 
 #include <tkr/base/registry.h>
+#include <tkr/base/result_schema.h>
 #include <tkr/elasticity/linear_elasticity.h>
 #include <tkr/gait/rigid_motion.h>
 #include <tkr/gait/step_report.h>
@@ -253,6 +254,29 @@ namespace TKR::Gait
     virtual std::string
     pose_text(const StepReport &report) const = 0;
   };
+
+  /**
+   * A protocol's own results, declared by the protocol in its own file
+   * (ResultSchema): its inputs (its waveform's channels, steps.csv's
+   * columns after `percent`), its pose (StepReport::pose_values, the
+   * columns after `converged`) and its cycle results (cycle_results(),
+   * summary.json; also per activity of a mix, `activity_NAME_...`). The
+   * names of input_columns(), pose_columns() and cycle_results() are
+   * these.
+   */
+  struct ProtocolResults
+  {
+    std::vector<ResultField> inputs, pose, cycle;
+  };
+
+  /** Declare @p results of the protocol @p name; true (for a static
+   *  initialiser). */
+  bool
+  declare_results(const std::string &name, const ProtocolResults &results);
+
+  /** The names of @p fields. */
+  std::vector<std::string>
+  names(const std::vector<ResultField> &fields);
 
   /**
    * The inputs of the step at @p percent of the cycle (any real, taken

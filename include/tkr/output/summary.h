@@ -6,6 +6,8 @@
 
 #include <deal.II/base/mpi.h>
 
+#include <tkr/base/json.h>
+
 #include <string>
 #include <utility>
 #include <vector>
@@ -20,6 +22,13 @@ namespace TKR::Output
   class Summary
   {
   public:
+    /**
+     * A record of the result file @p file of the ResultSchema: a key it
+     * does not declare is an error (a result is declared where it is
+     * computed). Empty: any key (a file outside the schema).
+     */
+    explicit Summary(const std::string &file = "");
+
     void
     set(const std::string &key, const double value);
     void
@@ -59,6 +68,7 @@ namespace TKR::Output
     void
     set_raw(const std::string &key, const std::string &json_value);
 
+    std::string                                      file;
     std::vector<std::pair<std::string, std::string>> entries;
   };
 
@@ -67,12 +77,7 @@ namespace TKR::Output
   create_directory(const std::string &directory,
                    const MPI_Comm     mpi_communicator);
 
-  /**
-   * @p text as a JSON string: quoted, with quotes, backslashes and control
-   * characters escaped.
-   */
-  std::string
-  json_string(const std::string &text);
+  using TKR::json_string;
 } // namespace TKR::Output
 
 #endif

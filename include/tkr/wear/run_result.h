@@ -4,6 +4,7 @@
 #ifndef tkr_wear_run_result_h
 #define tkr_wear_run_result_h
 
+#include <tkr/base/result_schema.h>
 #include <tkr/wear/wear_state.h>
 
 #include <string>
@@ -15,9 +16,9 @@ namespace TKR::Wear
   /**
    * The result of a wear run (`Problem = wear`), the one record that
    * summary.json, wear_history.csv and a study's table (study.csv,
-   * study.json) are written from; doc/output.md is its schema. The
-   * scalar results have the names of summary.json (named_values()); a
-   * study asks for them by name (value()).
+   * study.json) are written from. Its results are declared in one table
+   * (run_result.cc) in the ResultSchema (`tkr-wear --print-schema`,
+   * doc/output.md); named_values() and the columns below are that table.
    */
   struct RunResult
   {
@@ -73,14 +74,25 @@ namespace TKR::Wear
      */
     std::vector<std::pair<std::string, double>>
     named_values() const;
-
-    /**
-     * The scalar result @p key of named_values(); an ExcInputError naming
-     * @p key and the known names if there is none.
-     */
-    double
-    value(const std::string &key) const;
   };
+
+  /**
+   * wear_history.csv's columns of a block, in their order (the checkpoint
+   * stores the rows in the same order): the block's own (the wall time is
+   * ResultField::timing, written last), each side's (`SIDE_...`) and each
+   * activity's of a mix (`NAME_...`).
+   */
+  const std::vector<ResultColumn<BlockResult>> &
+  block_columns();
+  const std::vector<ResultColumn<SideResult>> &
+  side_columns();
+  const std::vector<ResultColumn<ActivityResult>> &
+  activity_columns();
+
+  /** The fields of a step that did not converge (summary.json's
+   *  `unconverged_steps`, the checkpoint). */
+  const std::vector<ResultColumn<FailedStep>> &
+  failed_step_columns();
 } // namespace TKR::Wear
 
 #endif
