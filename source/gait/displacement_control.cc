@@ -5,7 +5,6 @@
 
 #include <tkr/base/exceptions.h>
 #include <tkr/gait/displacement_control.h>
-#include <tkr/gait/pose_update.h>
 #include <tkr/mesh/mesh.h>
 
 #include <algorithm>
@@ -240,98 +239,6 @@ namespace TKR::Gait
     return equations;
   }
 
-  // The tray's AP and IE DoFs are held, so the inferior surface's mean y
-  // displacement and rotation vanish; its mean x and z displacement (in
-  // the tray's frame, turned by the IE angle theta) move the pose: x by
-  // mean_x / cos(theta) along the simulator's x (which moves the tray by
-  // mean_x along its own x), z by mean_z, with the relaxation and the
-  // safeguards of the force-controlled pose iteration (PoseUpdate).
-  //
-  // Along x nothing but the contact holds the tray, and the contact's ML
-  // force can jump by a newton or two where a slave node's coverage
-  // changes (TKR A coarse, 47 % of the cycle: the correction asked for
-  // jumps from -0.010 to +0.007 mm over 4e-5 mm of x). There is no x at
-  // which the correction vanishes; the equilibrium is the jump itself. So
-  // the step has also converged when two solved poses closer than the pose
-  // tolerance asked for opposite x corrections (the equilibrium lies
-  // between them: the tray's position is known within the tolerance) and z
-  // and the rotation meet the tolerance. Where the jump is in z's
-  // correction too (a worn surface: TKR A medium, block 11, 34 %: x's
-  // correction jumps by 0.026 mm and z's by 0.005 mm), z does not meet the
-  // tolerance at the bracket's ends; then x stays where it is (on one side
-  // of the jump) and z alone moves, by its correction until it is bracketed
-  // and then by bisection; z bracketed within the tolerance counts as
-  // converged as well (a jump in z's correction at fixed x, 0.006 mm on
-  // TKR A medium: the axial force balance then holds to within the jump,
-  // which load_balance() allows up to 0.1 % of the axial force).
-  PoseSolve
-  DisplacementControl::solve_pose(const StepInput    &input,
-                                  Pose               &pose,
-                                  const ContactSolve &solve) const
-  {
-    const double theta = pose_state(input, pose).rotation * numbers::PI / 180.;
-    const double rim =
-      0.5 * gait_loads.inferior_surface().width * numbers::PI / 180.;
-    if (pose.empty())
-      pose = rest_pose(input, 0.);
-    PoseSolve  result;
-    PoseUpdate update;
-    // Per component (x, z) the latest value at which the solve asked for
-    // more (low) and for less (high).
-    std::array<Bracket, 2> brackets;
-    for (;;)
-      {
-        Observations         observed;
-        const bool           contact_converged = solve(pose, observed);
-        const InferiorMotion motion = TibiaPose::inferior_motion(observed);
-        const Tensor<1, 3>  &mean   = motion.mean;
-        result.residual =
-          std::max(mean.norm(), rim * std::abs(motion.rotation_z));
-        brackets[0].add(pose.values[0], mean[0]);
-        brackets[1].add(pose.values[1], mean[2]);
-        const double tolerance   = parameters.pose_tolerance;
-        const bool   x_bracketed = brackets[0].width() <= tolerance;
-        const bool   z_bracketed = brackets[1].width() <= tolerance;
-        const bool   z_done = std::abs(mean[2]) <= tolerance || z_bracketed;
-        result.converged =
-          contact_converged && rim * std::abs(motion.rotation_z) <= tolerance &&
-          (std::abs(mean[0]) <= tolerance || x_bracketed) && z_done;
-        if (!contact_converged || result.converged ||
-            result.n_updates + 1 >= PoseUpdate::max_solves)
-          break;
-        // x bracketed at a jump while z is not yet in equilibrium: z alone
-        // moves, x stays on its side of the jump; by its correction, or to
-        // the middle of its own bracket once it has one.
-        if (x_bracketed)
-          {
-            pose.values[1] =
-              brackets[1].width() < std::numeric_limits<double>::infinity() ?
-                brackets[1].middle() :
-                pose.values[1] + mean[2];
-            ++result.n_updates;
-            continue;
-          }
-        // The relaxed step has not converged after bisection_start
-        // updates and x is bracketed: bisect x (z follows its correction).
-        if (result.n_updates >= bisection_start &&
-            brackets[0].width() < std::numeric_limits<double>::infinity())
-          {
-            pose.values = {brackets[0].middle(), pose.values[1] + mean[2]};
-            ++result.n_updates;
-            continue;
-          }
-        const PoseUpdate::Vector q(
-          {pose.values[0], 0., pose.values[1], 0., 0., 0.});
-        const PoseUpdate::Vector d(
-          {mean[0] / std::cos(theta), 0., mean[2], 0., 0., 0.});
-        const PoseUpdate::Vector r({mean[0], 0., mean[2], 0., 0., 0.});
-        const PoseUpdate::Vector next = update.next(q, d, r);
-        pose.values                   = {next[0], next[2]};
-        ++result.n_updates;
-      }
-    return result;
-  }
-
   // Nothing but the contact and the tray acts on the tibia along the
   // tray's y and about the IE axis (the axial force and the stabilisation
   // springs act along z and x, the ML spring's uniform traction has no
@@ -367,8 +274,8 @@ namespace TKR::Gait
   double
   DisplacementControl::load_balance(const StepReport &report) const
   {
-    // 0.1 % of the axial force: a jump in z's correction at fixed x (see
-    // solve_pose()).
+    // 0.1 % of the axial force: a jump in z's correction at fixed x where a
+    // slave node's coverage changes (doc/gait.md).
     return tibia_pose.axial_balance(gait_state(report.input).axial_force,
                                     report.contact_resultant,
                                     1e-3);

@@ -5,7 +5,6 @@
 
 #include <tkr/base/exceptions.h>
 #include <tkr/gait/force_control.h>
-#include <tkr/gait/pose_update.h>
 
 #include <algorithm>
 #include <array>
@@ -304,112 +303,6 @@ namespace TKR::Gait
       pose.values[4] = gait_loads.ie_restraint_excess(pose.values[5]);
     };
     return equations;
-  }
-
-  // The pose iteration solves r = 0 for the residual
-  //   r = (mean displacement of the inferior surface, its rotation about
-  //        z at the rim, (F_e - F) / k_beyond, (T_e - T) / k_beyond at the
-  //        rim),
-  // where F_e, T_e are the restraints' excess force and torque at the
-  // position reached (pose + mean displacement, pose angle + rotation)
-  // and F, T those the solve assumed: all in mm, r = 0 is the step's
-  // equilibrium and every entry is compared with the pose tolerance. The
-  // elastic displacement is in the tibia's frame: its mean turned by the
-  // pose angle moves the pose's translation. The update is
-  //   pose += lambda P r,  P = diag(1, 1, 1, 1, w_F, w_T),
-  // a fixed-point step with two safeguards:
-  // - w: on its own, the excess force is the root of G(F) = F - F_e(y(F)),
-  //   y(F) the equilibrium position under F, whose slope is 1 inside the
-  //   inner range (F_e does not change there) and lies in [1, k_beyond / k]
-  //   beyond it (the contact can only stiffen the AP spring k). So w = 1
-  //   inside (the Newton step) and w = k / k_beyond beyond: the error then
-  //   shrinks by a factor in [0, 1 - k / k_beyond], without overshooting
-  //   the kink. The same for the torque.
-  // - lambda <= 1, the reciprocal of the slope of r along the previous
-  //   step (a secant: how much of r the previous step removed, per unit
-  //   lambda), halved whenever |r| did not decrease. A contact that pushes
-  //   the tibia back by more than the step (conforming dishes far from
-  //   equilibrium: slopes up to ~2) gets lambda ~ 1 / slope, the Newton
-  //   step along r; where r decreases monotonically, lambda stays 1.
-  PoseSolve
-  ForceControl::solve_pose(const StepInput &,
-                           Pose               &pose_values,
-                           const ContactSolve &solve) const
-  {
-    const Restraints &restraints  = gait_loads.restraints();
-    const double      force_scale = 1. / restraints.ap_spring_stiffness_beyond;
-    // The rotation tolerance is the pose tolerance at the insert's rim.
-    const double torque_scale = 0.5 * gait_loads.inferior_surface().width *
-                                numbers::PI / 180. /
-                                restraints.ie_spring_stiffness_beyond;
-    const double force_weight =
-      restraints.ap_spring_stiffness / restraints.ap_spring_stiffness_beyond;
-    const double torque_weight =
-      restraints.ie_spring_stiffness / restraints.ie_spring_stiffness_beyond;
-
-    // The rotation at the insert's rim (mm per degree).
-    const double rim =
-      0.5 * gait_loads.inferior_surface().width * numbers::PI / 180.;
-
-    PoseState  pose = pose_state(pose_values);
-    PoseSolve  result;
-    PoseUpdate update;
-    for (;;)
-      {
-        Observations observations;
-        const bool   contact_converged = solve(to_pose(pose), observations);
-        const InferiorMotion observed  = inferior_motion(observations);
-        const Tensor<1, 3>  &mean      = observed.mean;
-        const Tensor<1, 3>   moved    = tibia_pose.motion(pose).rotation * mean;
-        const double         position = pose.translation[1] + moved[1];
-        const double         rotation = pose.rotation + observed.rotation_z;
-        const double         force_change =
-          gait_loads.ap_restraint_excess(position) - pose.restraint_force;
-        const double torque_change =
-          gait_loads.ie_restraint_excess(rotation) - pose.restraint_torque;
-        const PoseUpdate::Vector r({mean[0],
-                                    mean[1],
-                                    mean[2],
-                                    rim * observed.rotation_z,
-                                    force_scale * force_change,
-                                    torque_scale * torque_change});
-        result.residual = std::max(
-          {mean.norm(), std::abs(r[3]), std::abs(r[4]), std::abs(r[5])});
-        result.converged = result.residual <= parameters.pose_tolerance;
-        if (!contact_converged || result.converged ||
-            result.n_updates + 1 >= PoseUpdate::max_solves)
-          break;
-
-        // The excess force moves all the way to its value at the position
-        // reached inside the inner range (the excess is flat there: its
-        // Newton step), k / k_beyond of the way beyond it.
-        const bool force_inside =
-          std::abs(position) <= restraints.ap_spring_range;
-        const bool torque_inside =
-          std::abs(rotation) <= restraints.ie_spring_range;
-        const PoseUpdate::Vector q({pose.translation[0],
-                                    pose.translation[1],
-                                    pose.translation[2],
-                                    pose.rotation,
-                                    pose.restraint_force,
-                                    pose.restraint_torque});
-        const PoseUpdate::Vector d(
-          {moved[0],
-           moved[1],
-           moved[2],
-           observed.rotation_z,
-           (force_inside ? 1. : force_weight) * force_change,
-           (torque_inside ? 1. : torque_weight) * torque_change});
-        const PoseUpdate::Vector next = update.next(q, d, r);
-        for (unsigned int i = 0; i < 3; ++i)
-          pose.translation[i] = next[i];
-        pose.rotation         = next[3];
-        pose.restraint_force  = next[4];
-        pose.restraint_torque = next[5];
-        ++result.n_updates;
-      }
-    pose_values = to_pose(pose);
-    return result;
   }
 
   void

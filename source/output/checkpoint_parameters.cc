@@ -170,7 +170,7 @@ namespace TKR::Output
       if (((starts_with(entry, "Mesh/") && entry != "Mesh/File") ||
            starts_with(entry, "Materials/") ||
            (starts_with(entry, "Gait/") && entry != "Gait/Step groups" &&
-            entry != "Gait/Waveform file" && entry != "Gait/Pose solver" &&
+            entry != "Gait/Waveform file" && entry != "Gait/Pose derivatives" &&
             entry != "Gait/Activities" &&
             entry != "Gait/Largest initial overlap") ||
            (starts_with(entry, "Wear/") && entry != "Wear/Cycles" &&

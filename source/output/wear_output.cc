@@ -59,40 +59,33 @@ namespace TKR::Output
     }
 
     // The protocols' inputs go at 15, their pose at 30 (Gait::Protocol).
+    // clang-format off
     [[maybe_unused]] const bool declared =
       ResultSchema::declare(
         "steps.csv",
         10,
-        {{"step", "", "-", {}, "the step, from 0"},
-         {"percent", "", "%", {}, "the instant in the gait cycle"}}) &&
+        {
+        {"step", "", "-", {}, "the step, from 0"},
+        {"percent", "", "%", {}, "the instant in the gait cycle"}}) &&
       ResultSchema::declare("steps.csv", 20, step_fields()) &&
       ResultSchema::declare(
         "wear_map.csv",
         10,
-        {{"x", "", "mm", {}, "node position, medial-lateral"},
-         {"y", "", "mm", {}, "node position, anterior-posterior"},
-         {"z", "", "mm", {}, "node position, proximal"},
-         {"depth_mm", "", "mm", {}, "accumulated wear depth at the node"},
-         {"cross_shear",
-          "",
-          "-",
-          {},
-          "the cross-shear ratio of the node's sliding in the last computed cycle (doc/wear.md, \"Cross-shear\"); absent when a resumed run computed no cycle"}}) &&
+        {
+        {"x", "", "mm", {}, "node position, medial-lateral"},
+        {"y", "", "mm", {}, "node position, anterior-posterior"},
+        {"z", "", "mm", {}, "node position, proximal"},
+        {"depth_mm", "", "mm", {}, "accumulated wear depth at the node"},
+        {"cross_shear", "", "-", {}, "the cross-shear ratio of the node's sliding in the last computed cycle (doc/wear.md, \"Cross-shear\"); absent when a resumed run computed no cycle"}}) &&
       ResultSchema::declare(
         "wear_map_faces.csv",
         10,
-        {{"n0",
-          "",
-          "-",
-          {},
-          "0-based index of the face's first node in the data rows of `wear_map.csv` (row 0 = the first row after the header)"},
-         {"n1",
-          "",
-          "-",
-          {},
-          "the second node, in cyclic order around the face"},
-         {"n2", "", "-", {}, "the third node"},
-         {"n3", "", "-", {}, "the fourth node"}});
+        {
+        {"n0", "", "-", {}, "0-based index of the face's first node in the data rows of `wear_map.csv` (row 0 = the first row after the header)"},
+        {"n1", "", "-", {}, "the second node, in cyclic order around the face"},
+        {"n2", "", "-", {}, "the third node"},
+        {"n3", "", "-", {}, "the fourth node"}});
+    // clang-format on
 
     /** The names of @p file's columns, joined by commas, but @p left_out. */
     std::string

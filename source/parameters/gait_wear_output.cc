@@ -107,16 +107,18 @@ namespace TKR::Parameters
                         "until the mean displacement of its inferior "
                         "surface is below this (mm).");
       prm.declare_entry(
-        "Pose solver",
-        "coupled",
-        Patterns::Selection("coupled|outer"),
-        "coupled: the tibia's pose (force control: its translation and IE "
-        "rotation; displacement control: its ML position and height) and "
-        "the contact pressures are the unknowns of one semismooth Newton "
-        "iteration with a line search (doc/gait.md; needs Contact "
-        "solver/Solver = condensed active set or auto). outer: contact "
-        "solves at fixed poses, each followed by an update of the pose; "
-        "what the AMG-CG active set uses whatever this says.");
+        "Pose derivatives",
+        "analytic",
+        Patterns::Selection("analytic|finite differences"),
+        "How the pose Newton of a step (doc/gait.md) differentiates the "
+        "contact solution by the tibia's pose (force control: its "
+        "translation and IE rotation; displacement control: its ML position "
+        "and height). analytic: from the condensed active set's compliance "
+        "columns, the pose and the contact pressures solved together (Contact "
+        "solver/Solver = condensed active set or auto); finite differences: "
+        "one more contact solve per pose unknown, Newton on the pose alone "
+        "(what the AMG-CG active set and Ipopt use whatever this says; with "
+        "the condensed active set a check of the analytic derivatives).");
       prm.declare_entry("Tibial tray",
                         "rigid",
                         Patterns::Selection("rigid|free"),
@@ -227,7 +229,7 @@ namespace TKR::Parameters
       axial_stabilisation_spring = prm.get_double("Axial stabilisation spring");
       pose_tolerance             = prm.get_double("Pose tolerance");
       largest_initial_overlap    = prm.get_double("Largest initial overlap");
-      coupled_pose               = (prm.get("Pose solver") == "coupled");
+      analytic_pose_derivatives  = (prm.get("Pose derivatives") == "analytic");
       femur_ap_offset            = prm.get_double("Femur AP offset");
       protocols = internal::gait_protocols().parse_parameters(prm);
       channel_scales.clear();
@@ -377,7 +379,16 @@ namespace TKR::Parameters
       prm.declare_entry("VTU interval",
                         "1",
                         Patterns::Integer(0),
-                        "Write VTU output every this many steps (0: never).");
+                        "Write VTU output every this many steps (0: never): "
+                        "a wear run's steps of the last computed cycle, the "
+                        "solution of Problem = contact or elasticity.");
+      prm.declare_entry("Worn VTU interval",
+                        "1",
+                        Patterns::Integer(0),
+                        "A wear run: write the worn tibia (worn.pvd: depth, "
+                        "wear rate, slip, pressure per vertex) after every "
+                        "this many extrapolation blocks and after the last "
+                        "(0: never). Independent of VTU interval.");
       prm.declare_entry("Checkpoint interval",
                         "10",
                         Patterns::Integer(0),
@@ -416,6 +427,7 @@ namespace TKR::Parameters
     {
       directory               = prm.get("Directory");
       vtu_interval            = prm.get_integer("VTU interval");
+      worn_vtu_interval       = prm.get_integer("Worn VTU interval");
       checkpoint_interval     = prm.get_integer("Checkpoint interval");
       measured_mass_loss_file = prm.get("Measured mass loss file");
       plots                   = prm.get_bool("Plots");

@@ -15,26 +15,15 @@ namespace TKR::Problems
   namespace
   {
     // The elasticity problem's keys of summary.json (two_body_model.cc).
+    // clang-format off
     [[maybe_unused]] const bool declared = ResultSchema::declare(
       "summary.json",
       70,
-      {{"cg_iterations",
-        "integer",
-        "-",
-        {"elasticity"},
-        "CG iterations: of the elasticity solve; of the AMG-CG active set (contact, only when it used CG) (a trace)",
-        {},
-        true},
-       {"max_displacement_femur_mm",
-        "number",
-        "mm",
-        {"elasticity"},
-        "the femur's largest displacement"},
-       {"max_displacement_tibia_mm",
-        "number",
-        "mm",
-        {"elasticity"},
-        "the tibia's largest displacement"}});
+      {
+        {"cg_iterations", "integer", "-", {"elasticity"}, "CG iterations: of the elasticity solve; of the AMG-CG active set (contact, only when it used CG) (a trace)", {}, true},
+        {"max_displacement_femur_mm", "number", "mm", {"elasticity"}, "the femur's largest displacement"},
+        {"max_displacement_tibia_mm", "number", "mm", {"elasticity"}, "the tibia's largest displacement"}});
+    // clang-format on
   } // namespace
 
   using namespace dealii;

@@ -75,11 +75,10 @@ namespace TKR::Problems
     reports.assign(n_steps, Gait::StepReport());
     starts.assign(n_steps, Gait::StepStart());
     setup_solver();
-    // The pose is solved with the contact where the protocol names its
-    // unknowns and the solver has the columns (doc/gait.md).
+    // The pose is solved with the contact where the solver has the columns
+    // (doc/gait.md).
     pose_equations = protocol->pose_equations();
-    if (!gait.coupled_pose || !solver->can_solve_pose())
-      pose_equations.unknowns.clear();
+    coupled_pose   = gait.analytic_pose_derivatives && solver->can_solve_pose();
     if (parameters.output.vtu_interval > 0)
       step_series =
         std::make_unique<Output::VtuSeries>(parameters.output.directory,
@@ -395,17 +394,8 @@ namespace TKR::Problems
                         Gait::Pose            &pose,
                         StepProgress          &progress)
   {
-    if (!pose_equations.unknowns.empty())
-      return coupled_pose_solve(step, input, pose, progress);
-    return protocol->solve_pose(input,
-                                pose,
-                                [&](const Gait::Pose   &at,
-                                    Gait::Observations &observed) {
-                                  const bool converged =
-                                    contact_solve(step, input, at, progress);
-                                  observed = progress.observations;
-                                  return converged;
-                                });
+    return coupled_pose ? coupled_pose_solve(step, input, pose, progress) :
+                          reduced_pose_solve(step, input, pose, progress);
   }
 
   // A step's pose may fail to converge from its start: a cold start far

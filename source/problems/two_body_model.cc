@@ -12,63 +12,27 @@ namespace TKR::Problems
   {
     // The keys of every run's summary.json (the wear run's go from 20,
     // the contact problem's from 60, the elasticity problem's from 70).
+    // clang-format off
     [[maybe_unused]] const bool declared =
       ResultSchema::declare(
         "summary.json",
         10,
-        {{"problem",
-          "string",
-          "-",
-          {"wear", "contact", "elasticity"},
-          "the run's `Problem`: `wear`, `contact` or `elasticity`"},
-         {"contact_cell_quality_tibia",
-          "number",
-          "-",
-          {"wear", "contact", "elasticity"},
-          "the smallest scaled Jacobian of the cells with a face on `tibia_contact` (doc/geometry.md; a warning below `Mesh/Contact cell quality`)"},
-         {"contact_cell_quality_femur",
-          "number",
-          "-",
-          {"wear", "contact", "elasticity"},
-          "the same for `femur_contact`"},
-         {"cells",
-          "integer",
-          "-",
-          {"wear", "contact", "elasticity"},
-          "cells of the mesh, femur and tibia"},
-         {"femur_volume_mm3",
-          "number",
-          "mm^3",
-          {"wear", "contact", "elasticity"},
-          "the femur's volume in the mesh as read"},
-         {"tibia_volume_mm3",
-          "number",
-          "mm^3",
-          {"wear", "contact", "elasticity"},
-          "the tibia's (insert's) volume in the mesh as read"},
-         {"dofs",
-          "integer",
-          "-",
-          {"wear", "contact", "elasticity"},
-          "degrees of freedom of the two-body displacement"}}) &&
+        {
+        {"problem", "string", "-", {"wear", "contact", "elasticity"}, "the run's `Problem`: `wear`, `contact` or `elasticity`"},
+        {"contact_cell_quality_tibia", "number", "-", {"wear", "contact", "elasticity"}, "the smallest scaled Jacobian of the cells with a face on `tibia_contact` (doc/geometry.md; a warning below `Mesh/Contact cell quality`)"},
+        {"contact_cell_quality_femur", "number", "-", {"wear", "contact", "elasticity"}, "the same for `femur_contact`"},
+        {"cells", "integer", "-", {"wear", "contact", "elasticity"}, "cells of the mesh, femur and tibia"},
+        {"femur_volume_mm3", "number", "mm^3", {"wear", "contact", "elasticity"}, "the femur's volume in the mesh as read"},
+        {"tibia_volume_mm3", "number", "mm^3", {"wear", "contact", "elasticity"}, "the tibia's (insert's) volume in the mesh as read"},
+        {"dofs", "integer", "-", {"wear", "contact", "elasticity"}, "degrees of freedom of the two-body displacement"}}) &&
       ResultSchema::declare(
         "summary.json",
         90,
-        {{"converged",
-          "boolean",
-          "-",
-          {"wear", "contact", "elasticity"},
-          "wear: every step of every block converged; contact: the active set; elasticity: the linear solver"},
-         {"mpi_ranks",
-          "integer",
-          "-",
-          {"wear", "contact", "elasticity"},
-          "MPI processes of the run (in a study: of the case's group)"},
-         {"wall_time_s",
-          "number",
-          "s",
-          {"wear", "contact", "elasticity"},
-          "wall time of the run; absent under `Output/Testing = true`"}});
+        {
+        {"converged", "boolean", "-", {"wear", "contact", "elasticity"}, "wear: every step of every block converged; contact: the active set; elasticity: the linear solver"},
+        {"mpi_ranks", "integer", "-", {"wear", "contact", "elasticity"}, "MPI processes of the run (in a study: of the case's group)"},
+        {"wall_time_s", "number", "s", {"wear", "contact", "elasticity"}, "wall time of the run; absent under `Output/Testing = true`"}});
+    // clang-format on
   } // namespace
 
   using namespace dealii;

@@ -57,7 +57,11 @@ namespace TKR::Problems
                                  run.activity_names(),
                                  output.testing,
                                  run.model.world());
-      if (output.vtu_interval > 0 && run.groups.index == 0)
+      // The worn tibia every Output/Worn VTU interval blocks and at the end.
+      const unsigned int every = output.worn_vtu_interval;
+      if (every > 0 && run.groups.index == 0 &&
+          (run.state.block % every == 0 ||
+           run.state.cycles >= parameters.wear.cycles))
         worn_tibia();
     }
   }

@@ -340,12 +340,12 @@ namespace
                                          std::string("+x") :
                                          std::string("-x");
                               }},
-                             {"Gait/Pose solver",
-                              "outer",
+                             {"Gait/Pose derivatives",
+                              "finite differences",
                               [](const P &p) {
-                                return p.gait.coupled_pose ?
-                                         std::string("coupled") :
-                                         std::string("outer");
+                                return p.gait.analytic_pose_derivatives ?
+                                         std::string("analytic") :
+                                         std::string("finite differences");
                               }},
                              {"Gait/Pose tolerance",
                               "0.002",
@@ -479,6 +479,11 @@ namespace
                               "3",
                               [](const P
                                    &p) { return num(p.output.vtu_interval); }},
+                             {"Output/Worn VTU interval",
+                              "4",
+                              [](const P &p) {
+                                return num(p.output.worn_vtu_interval);
+                              }},
                              {"Static contact/Axial force",
                               "900",
                               [](const P &p) {

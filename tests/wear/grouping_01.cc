@@ -28,12 +28,14 @@ namespace
     const std::string prm =
       name + "-" +
       std::to_string(Utilities::MPI::this_mpi_process(MPI_COMM_WORLD)) + ".prm";
+    // (each rank's own file and directory: a run on both ranks writes only
+    // rank 0's, so no VTU, whose pieces every rank would write)
     {
       std::ofstream out(prm);
       out << prm_text << "subsection Gait\n  set Step groups = " << groups
           << "\nend\nsubsection Output\n  set Directory = results-" << prm
-          << "\n  set VTU interval = 0\n  set Plots = false\n  set Testing = "
-             "true\nend\n";
+          << "\n  set VTU interval = 0\n  set Worn VTU interval = 0\n  set "
+             "Plots = false\n  set Testing = true\nend\n";
     }
     const auto      parameters = TKR::Parameters::read_parameters(prm);
     std::streambuf *screen     = std::cout.rdbuf(nullptr);

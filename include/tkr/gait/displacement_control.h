@@ -111,16 +111,6 @@ namespace TKR::Gait
     PoseEquations
     pose_equations() const override;
 
-    /**
-     * The tray's x and z from the mean displacement of the inferior surface
-     * (PoseUpdate's step and Bracket's safeguard on these two components,
-     * at most PoseUpdate::max_solves contact solves).
-     */
-    PoseSolve
-    solve_pose(const StepInput    &input,
-               Pose               &pose,
-               const ContactSolve &solve) const override;
-
     void
     report(const Pose         &pose,
            const Observations &last,
@@ -130,7 +120,7 @@ namespace TKR::Gait
      * As under force control, the contact carries the axial force, within
      * the axial stabilisation spring times the pose tolerance plus 0.1 % of
      * the axial force (the pose may converge at a jump of the contact's
-     * axial force, solve_pose()).
+     * axial force where a slave node's coverage changes, doc/gait.md).
      */
     double
     load_balance(const StepReport &report) const override;

@@ -18,9 +18,11 @@ namespace TKR::Gait
    * surface by the axial force (with its medial offset), the AP force and
    * the IE torque of the waveform and held by the AP and IE restraints
    * (GaitLoads). Its pose is the tibia's rigid translation with the
-   * two-rate restraints' excess force and torque, solved around the
-   * contact solves by its own pose iteration (solve_pose()); TibiaPose
-   * holds the tray's kinematics and loads that both protocols share.
+   * two-rate restraints' excess force and torque (which follow from the
+   * translation and rotation), its equations the mean displacement and
+   * rotation of the inferior surface (pose_equations(), solved by the gait
+   * driver's pose Newton); TibiaPose holds the tray's kinematics and loads
+   * that both protocols share.
    *
    * The waveform's channels: flexion_deg, axial_force_N, ap_force_N,
    * ie_torque_Nm (with percent_cycle; data/iso14243-1.csv).
@@ -87,21 +89,6 @@ namespace TKR::Gait
      */
     PoseEquations
     pose_equations() const override;
-
-    /**
-     * The pose iteration of one step, from @p pose (updated), with
-     * PoseUpdate's safeguarded relaxed step: the two-rate restraints'
-     * excess force and torque over their inner rate (which the stiffness
-     * holds) are iterated with the pose: inside the inner range they take
-     * their value at the position reached (a Newton step), beyond it they
-     * move k / k_beyond of the way there (a contraction even where the
-     * contact does not hold the tibia). At most PoseUpdate::max_solves
-     * contact solves (see the .cc file and doc/gait.md "One step").
-     */
-    PoseSolve
-    solve_pose(const StepInput    &input,
-               Pose               &pose,
-               const ContactSolve &solve) const override;
 
     void
     report(const Pose         &pose,

@@ -106,9 +106,11 @@ namespace TKR::Gait
    *   pose;
    * - the linear functionals of the displacement its pose solve reads,
    *   registered by name (observations());
-   * - the pose solve of a step (solve_pose()): contact solves at poses of
-   *   its choice until its own equilibrium holds; the pose is opaque to
-   *   the driver (warm starts and checkpoints keep it as it is);
+   * - the pose of a step: its unknowns and the equations that hold at the
+   *   step's equilibrium (pose_equations()), which the driver solves by
+   *   Newton's method (Problems::GaitCycle::solve_pose()); the pose is
+   *   otherwise opaque to the driver (warm starts and checkpoints keep it
+   *   as it is);
    * - its part of the step report (report(), input_text(), pose_text(),
    *   the columns of steps.csv).
    * A new protocol is one class behind this interface that registers
@@ -183,25 +185,8 @@ namespace TKR::Gait
     load_coefficients(const StepInput &input, const Pose &pose) const = 0;
 
     /**
-     * A contact solve at a pose: true if it converged, with the values of
-     * the observations() in its second argument.
-     */
-    using ContactSolve = std::function<bool(const Pose &, Observations &)>;
-
-    /**
-     * Solve the step's pose from @p pose (updated): contact solves by
-     * @p solve until the protocol's equilibrium holds within its tolerance
-     * or a contact solve fails.
-     */
-    virtual PoseSolve
-    solve_pose(const StepInput    &input,
-               Pose               &pose,
-               const ContactSolve &solve) const = 0;
-
-    /**
-     * The pose unknowns and their equations (PoseEquations), for the
-     * pose solved together with the contact; none if the protocol's pose
-     * is solved by solve_pose() only.
+     * The pose unknowns and their equations (PoseEquations): what the
+     * gait driver's pose Newton solves in each step (doc/gait.md).
      */
     virtual PoseEquations
     pose_equations() const = 0;

@@ -70,11 +70,12 @@ namespace TKR::Gait
    * and a rotation about the vertical axis through the inferior centroid,
    * finite, in the relative motion of the femur): after a contact solve,
    * the mean displacement of its inferior surface and its best-fitting
-   * rotation are added to the pose and the step is solved again on the
-   * moved geometry, until that correction is below the pose tolerance
-   * (each protocol's solve_pose()). The loads and the springs act in the
-   * tibia's frame: the AP force of the simulator's frame is turned into it, the
-   * springs act on pose plus displacement (the pose part is a traction).
+   * rotation are what the pose must take up: the step's pose equations
+   * (each protocol's pose_equations(), solved by the gait driver's pose
+   * Newton until they are below the pose tolerance). The loads and the springs
+   * act in the tibia's frame: the AP force of the simulator's frame is turned
+   * into it, the springs act on pose plus displacement (the pose part is a
+   * traction).
    */
   class TibiaPose
   {

@@ -191,11 +191,11 @@ namespace TKR::Parameters
      * up by lowering the tray (mm); more is refused. */
     double largest_initial_overlap;
     /**
-     * The pose solved together with the contact in one semismooth Newton
-     * iteration (true, `Pose solver = coupled`; needs the condensed
-     * active set) or by contact solves at fixed poses (`outer`).
+     * The pose Newton's derivatives of the contact solution: analytic
+     * (true, `Pose derivatives = analytic`: pose and contact solved
+     * together; needs the condensed active set) or by finite differences.
      */
-    bool coupled_pose;
+    bool analytic_pose_derivatives;
     /** The insert sits in a rigid tray that cannot tilt sagittally. */
     bool rigid_tray;
     /**
@@ -345,6 +345,9 @@ namespace TKR::Parameters
     std::string directory;
     /** Write VTU every this many steps (0: never). */
     unsigned int vtu_interval;
+    /** A wear run: write the worn tibia every this many blocks and after
+     *  the last (0: never). */
+    unsigned int worn_vtu_interval;
     /** Write a checkpoint every this many extrapolation steps (0: never). */
     unsigned int checkpoint_interval;
     /** Measured mass loss (CSV) drawn into mass_loss.png ("" if none). */

@@ -179,8 +179,10 @@ namespace TKR::Problems
 
     /**
      * The pose solve of step @p step at @p input from @p pose (updated):
-     * with the contact (coupled_pose_solve()) where the protocol names its
-     * unknowns, else the protocol's own loop of contact solves.
+     * the protocol's pose equations (Gait::PoseEquations) by Newton's
+     * method, with the contact (coupled_pose_solve()) where the solver
+     * differentiates its solution by the pose (the condensed active set),
+     * else on the pose alone (reduced_pose_solve()).
      */
     Gait::PoseSolve
     solve_pose(const unsigned int     step,
@@ -256,6 +258,22 @@ namespace TKR::Problems
      */
     Gait::PoseSolve
     coupled_pose_solve(const unsigned int     step,
+                       const Gait::StepInput &input,
+                       Gait::Pose            &pose,
+                       StepProgress          &progress);
+
+    /**
+     * The pose of step @p step from @p pose (updated) for a solver that
+     * does not differentiate its solution by the pose (the AMG-CG active
+     * set, Ipopt), or where `Gait/Pose derivatives = finite differences`
+     * asks for it (a check of the analytic ones): Newton's method on the
+     * protocol's pose equations alone, each residual a converged contact
+     * solve at a fixed pose, the Jacobian by forward differences (one
+     * contact solve per unknown), the step halved until the largest
+     * residual decreases.
+     */
+    Gait::PoseSolve
+    reduced_pose_solve(const unsigned int     step,
                        const Gait::StepInput &input,
                        Gait::Pose            &pose,
                        StepProgress          &progress);
@@ -346,11 +364,12 @@ namespace TKR::Problems
     std::vector<Gait::StepReport>           reports;
     std::vector<Gait::StepStart>            starts;
     unsigned int                            window_misses = 0;
-    /**
-     * The protocol's pose unknowns and equations that are solved with the
-     * contact (coupled_pose_solve()); none: the protocol's solve_pose().
-     */
+    /** The protocol's pose unknowns and equations (solve_pose() solves
+     *  them). */
     Gait::PoseEquations pose_equations;
+    /** The pose equations are solved with the contact (coupled_pose_solve())
+     *  rather than on the pose alone (reduced_pose_solve()). */
+    bool coupled_pose = true;
     /** At most this many Newton iterations or updates of a step's pose. */
     static constexpr unsigned int max_pose_iterations = 40;
     /** Check the overlap at step 0 in this solve() (initial geometry). */
