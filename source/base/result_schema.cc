@@ -104,47 +104,44 @@ namespace TKR
                 text->replace(at, 4, side);
             expanded.push_back(f);
           }
-    {
-      for (const ResultField &f : expanded)
-        {
-          Declared   next{f,
-                        position,
-                        owner,
-                        static_cast<unsigned int>(declared.size())};
-          const auto same = std::find_if(declared.begin(),
-                                         declared.end(),
-                                         [&](const Declared &d) {
-                                           return d.field.name == f.name;
-                                         });
-          if (same == declared.end())
-            {
-              declared.push_back(next);
-              continue;
-            }
-          AssertThrow(same->field.type == f.type &&
-                        same->field.unit == f.unit &&
-                        same->field.meaning == f.meaning,
-                      dealii::ExcMessage("The result <" + f.name + "> of <" +
-                                         file +
-                                         "> is declared twice with another "
-                                         "type, unit or meaning."));
-          auto &writers = same->field.writers;
-          for (const std::string &w : f.writers)
-            if (std::find(writers.begin(), writers.end(), w) == writers.end())
-              writers.push_back(w);
-          // (in an order that does not depend on the declarations')
-          std::sort(writers.begin(), writers.end());
-          same->field.trace  = same->field.trace || f.trace;
-          same->field.study  = std::max(same->field.study, f.study);
-          same->field.timing = same->field.timing || f.timing;
-          if (next.key() < same->key())
-            {
-              same->position = next.position;
-              same->owner    = next.owner;
-              same->sequence = next.sequence;
-            }
-        }
-    }
+    for (const ResultField &f : expanded)
+      {
+        Declared   next{f,
+                      position,
+                      owner,
+                      static_cast<unsigned int>(declared.size())};
+        const auto same = std::find_if(declared.begin(),
+                                       declared.end(),
+                                       [&](const Declared &d) {
+                                         return d.field.name == f.name;
+                                       });
+        if (same == declared.end())
+          {
+            declared.push_back(next);
+            continue;
+          }
+        AssertThrow(same->field.type == f.type && same->field.unit == f.unit &&
+                      same->field.meaning == f.meaning,
+                    dealii::ExcMessage("The result <" + f.name + "> of <" +
+                                       file +
+                                       "> is declared twice with another "
+                                       "type, unit or meaning."));
+        auto &writers = same->field.writers;
+        for (const std::string &w : f.writers)
+          if (std::find(writers.begin(), writers.end(), w) == writers.end())
+            writers.push_back(w);
+        // (in an order that does not depend on the declarations')
+        std::sort(writers.begin(), writers.end());
+        same->field.trace  = same->field.trace || f.trace;
+        same->field.study  = std::max(same->field.study, f.study);
+        same->field.timing = same->field.timing || f.timing;
+        if (next.key() < same->key())
+          {
+            same->position = next.position;
+            same->owner    = next.owner;
+            same->sequence = next.sequence;
+          }
+      }
     return true;
   }
 

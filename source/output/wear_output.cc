@@ -49,15 +49,6 @@ namespace TKR::Output
       return table;
     }
 
-    std::vector<ResultField>
-    step_fields()
-    {
-      std::vector<ResultField> fields;
-      for (const auto &column : step_columns())
-        fields.push_back(column.field);
-      return fields;
-    }
-
     // The protocols' inputs go at 15, their pose at 30 (Gait::Protocol).
     // clang-format off
     [[maybe_unused]] const bool declared =
@@ -67,7 +58,7 @@ namespace TKR::Output
         {
         {"step", "", "-", {}, "the step, from 0"},
         {"percent", "", "%", {}, "the instant in the gait cycle"}}) &&
-      ResultSchema::declare("steps.csv", 20, step_fields()) &&
+      ResultSchema::declare("steps.csv", 20, fields_of(step_columns())) &&
       ResultSchema::declare(
         "wear_map.csv",
         10,

@@ -136,30 +136,6 @@ namespace TKR::Wear
       return table;
     }
 
-    template <typename... Arguments>
-    std::vector<ResultField>
-    fields_of(const std::vector<Value<Arguments...>> &table)
-    {
-      std::vector<ResultField> fields;
-      for (const auto &value : table)
-        fields.push_back(value.field);
-      return fields;
-    }
-
-    /** The fields of @p table, those with ResultField::timing or the
-     *  others (@p timing). */
-    template <typename Record>
-    std::vector<ResultField>
-    fields_of(const std::vector<ResultColumn<Record>> &table,
-              const bool                               timing = false)
-    {
-      std::vector<ResultField> fields;
-      for (const auto &column : table)
-        if (column.field.timing == timing)
-          fields.push_back(column.field);
-      return fields;
-    }
-
     // The positions of the wear run's results in their files (the
     // protocols' own results go between 22 and 25, the contact problem's
     // from 60: ResultSchema).

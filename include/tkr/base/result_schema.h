@@ -72,6 +72,22 @@ namespace TKR
   }
 
   /**
+   * The fields of @p table (a table of results: entries with a `field`,
+   * e.g. ResultColumn): those that are ResultField::timing (@p timing), or
+   * the others.
+   */
+  template <typename Table>
+  std::vector<ResultField>
+  fields_of(const Table &table, const bool timing = false)
+  {
+    std::vector<ResultField> fields;
+    for (const auto &entry : table)
+      if (entry.field.timing == timing)
+        fields.push_back(entry.field);
+    return fields;
+  }
+
+  /**
    * @p pattern with its placeholder (`SIDE` or `NAME`, the first) replaced
    * by @p value: a side's or an activity's field name.
    */
