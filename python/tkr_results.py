@@ -110,6 +110,7 @@ STUDY_CSV_COLUMNS = tuple(f["name"] for f in SCHEMA["study.csv"])
 STUDY_JSON_KEYS = {f["name"]: f["type"] for f in SCHEMA["study.json"]}
 STUDY_CASE_KEYS = {f["name"]: f["type"] for f in SCHEMA["study.json cases"]}
 STATUS_JSON_KEYS = {f["name"]: f["type"] for f in SCHEMA["status.json"]}
+CALIBRATION_JSON_KEYS = {f["name"]: f["type"] for f in SCHEMA["calibration.json"]}
 
 # The solver's traces: iteration and solve counts say how the solver got
 # there, not what it computed; compared files leave them out
@@ -120,6 +121,7 @@ TRACES = tuple(sorted({f["name"] for fields in SCHEMA.values() for f in fields i
 JSON_FILES = {
     "summary.json": {key: kind for key, (kind, _) in SUMMARY_KEYS.items()},
     "status.json": STATUS_JSON_KEYS,
+    "calibration.json": CALIBRATION_JSON_KEYS,
     "study.json": STUDY_JSON_KEYS,
 }
 CSV_FILES = {

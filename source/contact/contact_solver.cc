@@ -66,22 +66,6 @@ namespace TKR::Contact
                  state);
   }
 
-  ContactStatistics
-  ContactSolver::solve_with_pose(PoseSystem &,
-                                 std::vector<double> &,
-                                 const double,
-                                 const unsigned int,
-                                 const double,
-                                 ContactState &,
-                                 PoseStatistics &)
-  {
-    AssertThrow(false,
-                ExcMessage("The " + name() +
-                           " solver cannot solve the pose with the contact; "
-                           "use the condensed active set."));
-    return {};
-  }
-
   unsigned int
   ContactSolver::add_observation(const TrilinosWrappers::MPI::Vector &weights)
   {

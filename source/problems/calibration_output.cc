@@ -9,6 +9,7 @@
 
 #include <tkr/base/atomic_file.h>
 #include <tkr/base/exceptions.h>
+#include <tkr/base/result_schema.h>
 #include <tkr/output/summary.h>
 #include <tkr/output/wear_output.h>
 #include <tkr/problems/calibration_problem.h>
@@ -48,6 +49,30 @@ namespace TKR::Problems
       return list;
     }
 
+    // The keys of calibration.json.
+    // clang-format off
+    [[maybe_unused]] const bool declared = ResultSchema::declare(
+      "calibration.json",
+      10,
+      {
+      {"problem", "string", "-", {}, "`calibration`"},
+      {"fit", "string", "-", {}, "the fitted entries (`Calibration/Fit`), comma-separated"},
+      {"fitted", "object", "-", {}, "the fitted values by key: `wear_coefficient` or `table_scale`, `run_in_factor`, `run_in_length`, as fitted"},
+      {"confidence_level", "number", "-", {}, "`Calibration/Confidence level` of the interval"},
+      {"lower", "object", "-", {}, "the interval's lower ends, keys as `fitted`"},
+      {"upper", "object", "-", {}, "the interval's upper ends, keys as `fitted`"},
+      {"interval_from", "string", "-", {}, "how the interval was computed: Student's t over the specimens' own fits, or on the residuals of one specimen (doc/calibration.md)"},
+      {"specimen_fits", "list", "-", {}, "each specimen's own fit (keys as `fitted`) where the interval comes from them, else empty"},
+      {"designs", "integer", "-", {}, "designs calibrated on"},
+      {"specimens", "integer", "-", {}, "specimens over all designs' measured files"},
+      {"points", "integer", "-", {}, "measured points (every row of the measured files)"},
+      {"rms_residual_mg", "number", "mg", {}, "root mean square over the points of measured minus computed mass loss (the last run, at the fitted values)"},
+      {"runs_per_design", "integer", "-", {}, "wear runs of each design (the first one, then one per fit)"},
+      {"verification_mismatch_percent", "number", "%", {}, "the largest difference at the points between the last run's mass loss at the fitted values and the fit's prediction, in % of the largest measured mass"},
+      {"verified", "boolean", "-", {}, "`verification_mismatch_percent` is within `Calibration/Tolerance`"},
+      {"illustrative_data", "boolean", "-", {}, "a comment line of a measured file says \"illustrative\""},
+      {"fit_iterations", "integer", "-", {}, "iterations of the fit (a trace)", {}, true}});
+    // clang-format on
   } // namespace
 
   bool
@@ -332,7 +357,7 @@ namespace TKR::Problems
   {
     const Parameters::Calibration       &calibration = parameters.calibration;
     const unsigned int                   n           = result.x.size();
-    Output::Summary                      json;
+    Output::Summary                      json("calibration.json");
     Output::Summary::Record              fitted, lower, upper;
     std::vector<Output::Summary::Record> specimens;
     for (unsigned int i = 0; i < n; ++i)

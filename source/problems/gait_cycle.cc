@@ -75,10 +75,7 @@ namespace TKR::Problems
     reports.assign(n_steps, Gait::StepReport());
     starts.assign(n_steps, Gait::StepStart());
     setup_solver();
-    // The pose is solved with the contact where the solver has the columns
-    // (doc/gait.md).
     pose_equations = protocol->pose_equations();
-    coupled_pose   = gait.analytic_pose_derivatives && solver->can_solve_pose();
     if (parameters.output.vtu_interval > 0)
       step_series =
         std::make_unique<Output::VtuSeries>(parameters.output.directory,
@@ -262,48 +259,6 @@ namespace TKR::Problems
     return protocol->rest_pose(input, lift);
   }
 
-  // A solve that leaves the coupling window is repeated on the whole
-  // search distance.
-  bool
-  GaitCycle::contact_solve(const unsigned int     step,
-                           const Gait::StepInput &input,
-                           const Gait::Pose      &pose,
-                           StepProgress          &progress)
-  {
-    const auto                &parameters = model.parameters();
-    const Gait::RelativeMotion motion     = protocol->motion(input, pose);
-    bool                       narrow     = progress.use_window;
-    couple(motion, narrow ? &progress.window : nullptr);
-    if (narrow && model.coupling().statistics().n_covered_nodes == 0)
-      {
-        narrow = false;
-        couple(motion, nullptr);
-      }
-    check_coupling(step);
-    ++progress.n_solves;
-    const std::vector<double> coefficients =
-      protocol->load_coefficients(input, pose);
-    const auto solve = [&]() {
-      progress.statistics =
-        solver->solve(model.mapping(),
-                      coefficients,
-                      parameters.contact_solver.initial_contact_distance,
-                      progress.state);
-      progress.newton_iterations += progress.statistics.newton_iterations;
-    };
-    solve();
-    auto &state = progress.state;
-    if (narrow && !model.coupling().window_holds(state.displacement,
-                                                 state.master_displacement))
-      {
-        ++window_misses;
-        couple(motion, nullptr);
-        solve();
-      }
-    finish_solve(progress);
-    return progress.statistics.converged;
-  }
-
   void
   GaitCycle::check_coupling(const unsigned int step) const
   {
@@ -357,6 +312,7 @@ namespace TKR::Problems
     report.active_nodes      = stats.n_active;
     report.newton_iterations = progress.newton_iterations;
     report.pose_updates      = pose_solve.n_updates;
+    report.contact_solves    = progress.n_solves;
     report.max_pressure      = stats.max_pressure;
     report.contact_force     = stats.contact_force.norm();
     report.contact_resultant = stats.contact_force;
@@ -386,16 +342,6 @@ namespace TKR::Problems
     if (keep_for_output && parameters.output.vtu_interval > 0 &&
         step % parameters.output.vtu_interval == 0)
       saved_steps[step] = {solver->compute_solution(), state, motion};
-  }
-
-  Gait::PoseSolve
-  GaitCycle::solve_pose(const unsigned int     step,
-                        const Gait::StepInput &input,
-                        Gait::Pose            &pose,
-                        StepProgress          &progress)
-  {
-    return coupled_pose ? coupled_pose_solve(step, input, pose, progress) :
-                          reduced_pose_solve(step, input, pose, progress);
   }
 
   // A step's pose may fail to converge from its start: a cold start far

@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // This file is part of tkr-wear.
 
-// A gait step's pose: solved together with its contact
-// (GaitCycle::coupled_pose_solve(): the protocol's pose unknowns as a
-// Contact::PoseSystem), or on the pose alone by finite differences
-// (GaitCycle::reduced_pose_solve()).
+// A gait step's pose (GaitCycle::solve_pose()): the protocol's pose
+// unknowns as a Contact::PoseSystem, solved by Contact::PoseNewton.
 
 #include <deal.II/lac/full_matrix.h>
 
 #include <tkr/base/exceptions.h>
+#include <tkr/contact/finite_difference_pose.h>
+#include <tkr/contact/pose_newton.h>
 #include <tkr/problems/gait_cycle.h>
 
 #include <algorithm>
@@ -157,11 +157,14 @@ namespace TKR::Problems
     };
   } // namespace
 
+  // Contact::PoseNewton on the protocol's pose equations, with the
+  // solver's analytic derivatives where it has them and the entry asks for
+  // them, else by finite differences.
   Gait::PoseSolve
-  GaitCycle::coupled_pose_solve(const unsigned int     step,
-                                const Gait::StepInput &input,
-                                Gait::Pose            &pose,
-                                StepProgress          &progress)
+  GaitCycle::solve_pose(const unsigned int     step,
+                        const Gait::StepInput &input,
+                        Gait::Pose            &pose,
+                        StepProgress          &progress)
   {
     const auto &parameters = model.parameters();
     bool        narrow     = progress.use_window;
@@ -171,12 +174,23 @@ namespace TKR::Problems
         couple(motion, nullptr);
       return model.coupling().statistics().n_covered_nodes > 0;
     };
-    StepPoseSystem              system(*protocol,
+    StepPoseSystem system(*protocol,
                           pose_equations,
                           input,
                           pose,
                           observation_names,
                           couple_at);
+    const double distance = parameters.contact_solver.initial_contact_distance;
+    std::unique_ptr<Contact::PoseDerivatives> derivatives;
+    if (gait.analytic_pose_derivatives)
+      derivatives = solver->pose_derivatives(system, distance);
+    if (!derivatives)
+      derivatives =
+        std::make_unique<Contact::FiniteDifferencePose>(*solver,
+                                                        system,
+                                                        model.mapping(),
+                                                        distance);
+    Contact::PoseNewton         newton(system, *derivatives);
     const Contact::ContactState start = progress.state;
     Contact::PoseStatistics     statistics;
     unsigned int                fallbacks = 0;
@@ -186,14 +200,11 @@ namespace TKR::Problems
         system.couple(q);
         check_coupling(step);
         progress.state      = start;
-        progress.statistics = solver->solve_with_pose(
-          system,
-          q,
-          gait.pose_tolerance,
-          max_pose_iterations,
-          parameters.contact_solver.initial_contact_distance,
-          progress.state,
-          statistics);
+        progress.statistics = newton.solve(q,
+                                           gait.pose_tolerance,
+                                           max_pose_iterations,
+                                           progress.state,
+                                           statistics);
         progress.n_solves += statistics.n_solves;
         fallbacks +=
           statistics.n_descent_fallbacks + statistics.n_stalled_steps;
@@ -218,111 +229,4 @@ namespace TKR::Problems
             fallbacks};
   }
 
-  // Newton's method on the pose equations r(q) = 0 alone (Gait::
-  // PoseEquations: residual p is observation p times its scale, in mm),
-  // r(q) from a converged contact solve at the fixed pose q. The Jacobian
-  // by forward differences: unknown k moved by 1e-3 mm as its equation
-  // measures it (a rotation at the insert's rim), one contact solve each.
-  // The Newton step is halved (at most 10 times) until the largest
-  // residual decreases (if it never does, the last is taken: a fallback);
-  // the last contact solve is the accepted pose's (unless a solve failed:
-  // then the step has not converged). pose_updates counts the contact
-  // solves but the first (each Newton step 1 + n_unknowns solves and its
-  // line search's).
-  Gait::PoseSolve
-  GaitCycle::reduced_pose_solve(const unsigned int     step,
-                                const Gait::StepInput &input,
-                                Gait::Pose            &pose,
-                                StepProgress          &progress)
-  {
-    const Gait::PoseEquations &equations = pose_equations;
-    const unsigned int         n         = equations.unknowns.size();
-    const Gait::Pose           start     = pose;
-    const auto                 at        = [&](const std::vector<double> &q) {
-      Gait::Pose p = start;
-      for (unsigned int k = 0; k < n; ++k)
-        p.values[equations.unknowns[k]] = q[k];
-      equations.complete(p);
-      return p;
-    };
-    // r(q), and whether its contact solve converged.
-    unsigned int n_solves = 0;
-    const auto   residual = [&](const std::vector<double> &q, bool &converged) {
-      converged = contact_solve(step, input, at(q), progress);
-      ++n_solves;
-      std::vector<double> r;
-      for (const auto &[name, scale] : equations.residuals)
-        r.push_back(scale * progress.observations[name]);
-      return r;
-    };
-    const auto largest = [](const std::vector<double> &r) {
-      double value = 0;
-      for (const double x : r)
-        value = std::max(value, std::abs(x));
-      return value;
-    };
-
-    std::vector<double> q(n);
-    for (unsigned int k = 0; k < n; ++k)
-      q[k] = start.values[equations.unknowns[k]];
-    bool                converged = false;
-    std::vector<double> r         = residual(q, converged);
-    Gait::PoseSolve     result;
-    for (unsigned int iteration = 0;; ++iteration)
-      {
-        result.residual  = largest(r);
-        result.converged = converged && result.residual <= gait.pose_tolerance;
-        if (!converged || result.converged || iteration >= max_pose_iterations)
-          break;
-        FullMatrix<double> jacobian(n, n), inverse(n, n);
-        bool               columns_converged = true;
-        for (unsigned int k = 0; k < n && columns_converged; ++k)
-          {
-            const double        h     = 1e-3 / equations.residuals[k].second;
-            std::vector<double> moved = q;
-            moved[k] += h;
-            const std::vector<double> r_k = residual(moved, columns_converged);
-            for (unsigned int i = 0; i < n; ++i)
-              jacobian(i, k) = (r_k[i] - r[i]) / h;
-          }
-        if (!columns_converged)
-          {
-            converged = false;
-            break;
-          }
-        inverse.invert(jacobian);
-        std::vector<double> dq(n);
-        for (unsigned int i = 0; i < n; ++i)
-          for (unsigned int k = 0; k < n; ++k)
-            dq[i] -= inverse(i, k) * r[k];
-        std::vector<double> trial, r_trial;
-        double              length = 1;
-        for (unsigned int halvings = 0;; ++halvings, length /= 2)
-          {
-            trial = q;
-            for (unsigned int i = 0; i < n; ++i)
-              trial[i] += length * dq[i];
-            r_trial = residual(trial, converged);
-            if (!converged || largest(r_trial) < result.residual)
-              break;
-            if (halvings == 10)
-              {
-                // No decrease along the Newton direction: taken anyway
-                // (counted in summary.json's pose_fallbacks).
-                ++result.n_fallbacks;
-                break;
-              }
-          }
-        q = trial;
-        r = r_trial;
-      }
-    // A contact solve at a pose that did not converge ends the step (the
-    // driver cuts it back); the last solve is the pose's.
-    if (!converged)
-      result.converged = false;
-    // Every contact solve is at another pose: pose_updates + 1 solves.
-    result.n_updates = n_solves - 1;
-    pose             = at(q);
-    return result;
-  }
 } // namespace TKR::Problems

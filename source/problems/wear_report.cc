@@ -30,7 +30,7 @@ namespace TKR::Problems
           {
             ++counts.steps;
             counts.converged += r.converged;
-            counts.solves += r.pose_updates + 1;
+            counts.solves += r.contact_solves;
             counts.newton += r.newton_iterations;
           }
       return counts;

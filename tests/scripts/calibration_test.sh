@@ -7,7 +7,8 @@
 #    three specimens each (factors 0.96, 1.01, 1.03, +-1 % noise;
 #    make_synthetic.py), on 2 ranks: one shared k, run-in factor and
 #    length recovered, each within its interval and the interval holding
-#    the true value; 2 wear runs per design, verified;
+#    the true value; 2 wear runs per design, verified; calibration.json's
+#    keys and types those of doc/output.md;
 # 2. calibrated.prm runs and gives the mass of the last calibration run
 #    of design A (relative 1e-9);
 # 3. one specimen: the interval from the residuals holds the true values;
@@ -60,6 +61,8 @@ check "two designs: k, run-in factor and length recovered" truth two-designs
 check "two designs: 2 runs per design, intervals from the 6 specimens" \
   grep -q '"runs_per_design": 2,' two-designs/calibration.json
 grep -q "over the 6 specimens" two-designs/calibration.json || { echo "FAILED: not the specimens' interval"; failures=$((failures + 1)); }
+check "two designs: calibration.json as doc/output.md says" \
+  "$python" "$here/../../python/tkr_results.py" check two-designs/calibration.json
 
 # 2. calibrated.prm runs the first design at the fitted values.
 "$exe" two-designs/calibrated.prm > calibrated.log 2>&1

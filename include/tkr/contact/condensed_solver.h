@@ -11,6 +11,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <tkr/contact/contact_solver.h>
+#include <tkr/contact/pose_newton.h>
 #include <tkr/elasticity/direct_solver.h>
 #include <tkr/elasticity/elastic_system.h>
 #include <tkr/mortar/mortar_operator.h>
@@ -89,31 +90,16 @@ namespace TKR::Contact
           ContactState              &state) override;
 
     /**
-     * Solve the contact problem and the rigid unknowns @p q of @p system
-     * (updated) together: Newton steps of multipliers and q, each followed
-     * by a line search along its pose part on the contact solutions (the
-     * active set iteration of solve()) at the trial poses, until the pose
-     * equations hold within @p tolerance (mm); at most @p max_iterations
-     * Newton steps (see the .cc file and doc/gait.md). The loads are
-     * combinations of the load basis (set_load_basis()) with the
-     * coefficients system.load_coefficients(). @p state is the last
-     * contact solution's state, the statistics its own with the active
-     * set iterations of the whole solve.
+     * The analytic derivatives of the pose equations of @p system: at a
+     * contact solution, the Newton step of the multipliers of its active
+     * set and the pose together, from the compliance columns (see the .cc
+     * file and doc/gait.md). The loads are combinations of the load basis
+     * (set_load_basis()) with the coefficients system.load_coefficients();
+     * @p initial_distance as in solve().
      */
-    ContactStatistics
-    solve_with_pose(PoseSystem          &system,
-                    std::vector<double> &q,
-                    const double         tolerance,
-                    const unsigned int   max_iterations,
-                    const double         initial_distance,
-                    ContactState        &state,
-                    PoseStatistics      &pose_statistics) override;
-
-    bool
-    can_solve_pose() const override
-    {
-      return true;
-    }
+    std::unique_ptr<PoseDerivatives>
+    pose_derivatives(PoseSystem  &system,
+                     const double initial_distance) override;
 
     /**
      * Compute the columns of the nodes whose columns the solves of the
@@ -301,60 +287,7 @@ namespace TKR::Contact
     make_zone(const Mortar::MortarOperator &B,
               const std::vector<double>    &u0) const;
 
-    /**
-     * A pose of solve_with_pose() on its coupling: u_0 and the zone there,
-     * the columns z_i on the zone computed so far, and the active set and
-     * the pose residual of the contact solution there.
-     */
-    struct PosePoint
-    {
-      std::vector<double> q;
-      std::vector<double> coefficients;
-      /** u_0 on all surface values. */
-      std::vector<double> u0;
-      std::vector<double> u0_observations;
-      Zone                zone;
-      std::vector<Column> z;
-      std::vector<bool>   active;
-      /** r_p = s_p w_{i_p} . u (mm). */
-      std::vector<double> residual;
-    };
-
-    /** How u_0 and the master's points change with the pose. */
-    struct PoseDerivatives
-    {
-      /** du_0/dq_k on the zone and its observations. */
-      std::vector<std::vector<double>> u0, observations;
-      /** dp/dq_k = L p + v_0 of a master point p. */
-      std::vector<std::pair<dealii::Tensor<2, 3>, dealii::Tensor<1, 3>>>
-        velocity;
-    };
-
-    /** The pose @p q, whose coupling is the current one. */
-    PosePoint
-    make_pose_point(const PoseSystem &system, const std::vector<double> &q);
-
-    /**
-     * The contact solution at the pose of @p point (the active set iteration
-     * of solve() on its zone, from the active set of @p state): its state,
-     * statistics, and the point's active set and pose residual.
-     */
-    ContactStatistics
-    solve_at_pose(const PoseSystem &system,
-                  const double      initial_distance,
-                  PosePoint        &point,
-                  ContactState     &state);
-
-    /**
-     * The stiffness G^-1 of the tray's rigid motions against the pose
-     * unknowns' unit forces (PoseSystem::force_columns()).
-     */
-    dealii::FullMatrix<double>
-    rigid_stiffness(const PoseSystem &system) const;
-
-    /** du_0/dq and the master's velocity fields at @p point. */
-    PoseDerivatives
-    pose_derivatives(const PoseSystem &system, const PosePoint &point) const;
+    class AnalyticPose;
 
     /**
      * The Newton system of multipliers and pose at a contact solution: the
@@ -368,18 +301,67 @@ namespace TKR::Contact
     };
 
     /**
-     * The Newton system of multipliers and pose at the contact solution
-     * @p point, for its active set.
+     * A contact solution at a pose on its coupling, as AnalyticPose keeps
+     * it: u_0 and the zone there, the columns z_i on the zone computed so
+     * far, the active set, and the Newton system once it is needed.
+     */
+    struct PoseData : PoseDerivatives::Data
+    {
+      std::vector<double> coefficients;
+      /** u_0 on all surface values. */
+      std::vector<double> u0;
+      std::vector<double> u0_observations;
+      Zone                zone;
+      std::vector<Column> z;
+      std::vector<bool>   active;
+      /** The Newton system (empty until newton_step() needs it). */
+      std::unique_ptr<PoseNewtonSystem> newton;
+    };
+
+    /** How u_0 and the master's points change with the pose. */
+    struct PoseSensitivities
+    {
+      /** du_0/dq_k on the zone and its observations. */
+      std::vector<std::vector<double>> u0, observations;
+      /** dp/dq_k = L p + v_0 of a master point p. */
+      std::vector<std::pair<dealii::Tensor<2, 3>, dealii::Tensor<1, 3>>>
+        velocity;
+    };
+
+    /** u_0 and the zone at the pose @p q, whose coupling is the current one. */
+    std::shared_ptr<PoseData>
+    make_pose_data(const PoseSystem &system, const std::vector<double> &q);
+
+    /**
+     * The contact solution at the pose of @p point (the active set iteration
+     * of solve() on its zone, from the active set of its state): its state,
+     * statistics and pose residual, and the active set in @p data.
+     */
+    void
+    solve_at_pose(const PoseSystem       &system,
+                  const double            initial_distance,
+                  PoseData               &data,
+                  PoseDerivatives::Point &point);
+
+    /** du_0/dq and the master's velocity fields at @p point. */
+    PoseSensitivities
+    pose_sensitivities(const PoseSystem          &system,
+                       const std::vector<double> &q,
+                       const PoseData            &data) const;
+
+    /**
+     * The Newton system of multipliers and pose at the contact solution of
+     * the pose @p q (@p data), for its active set.
      */
     PoseNewtonSystem
-    pose_newton_system(const PoseSystem &system, PosePoint &point);
+    pose_newton_system(const PoseSystem          &system,
+                       const std::vector<double> &q,
+                       PoseData                  &data);
 
     /**
      * The pose part @p dq of the Newton step of @p newton, damped by
-     * @p damping (Levenberg-Marquardt: mu S subtracted from the pose rows'
-     * diagonal, dq scaled by 1 + mu, so that it goes from the Newton step
-     * at mu = 0 to S^-1 r as mu grows): false if the matrix is (nearly)
-     * singular.
+     * @p damping (PoseDerivatives::newton_step()): false if the matrix is
+     * (nearly) singular.
      */
     static bool
     solve_newton_system(const PoseSystem       &system,
@@ -388,49 +370,12 @@ namespace TKR::Contact
                         std::vector<double>    &dq);
 
     /**
-     * The pose part of the search direction at @p point: its Newton step,
-     * damped until it is gradient related in the step's potential energy
-     * (@p stiffness: rigid_stiffness()).
+     * The stiffness G^-1 of the tray's rigid motions against the pose
+     * unknowns' unit forces: G_pk = s_p^-1 r_p(K^-1 f_k), the observations
+     * of the load basis columns system.force_columns() without contact.
      */
-    std::vector<double>
-    pose_search_direction(const PoseSystem                 &system,
-                          PosePoint                        &point,
-                          const dealii::FullMatrix<double> &stiffness,
-                          PoseStatistics                   &statistics);
-
-    /** What a line search of solve_with_pose() found. */
-    struct PoseStep
-    {
-      /** accepted: the strong Wolfe condition holds; lowered: not, but
-       *  the bracket's lower end lowers the energy; stuck: neither. */
-      enum Outcome
-      {
-        accepted,
-        lowered,
-        stuck
-      } outcome = stuck;
-      PosePoint         point;
-      ContactState      state;
-      ContactStatistics statistics;
-    };
-
-    /**
-     * The line search of solve_with_pose() along @p dq from the contact
-     * solution @p start (state @p start_state); @p slope is the energy's
-     * slope along a direction at a solution. Counts the solves and cuts in
-     * @p pose_statistics and adds the Newton iterations.
-     */
-    PoseStep
-    pose_line_search(
-      PoseSystem                                               &system,
-      const PosePoint                                          &start,
-      const ContactState                                       &start_state,
-      const std::vector<double>                                &dq,
-      const std::function<double(const PosePoint &,
-                                 const std::vector<double> &)> &slope,
-      const double    initial_distance,
-      unsigned int   &newton_iterations,
-      PoseStatistics &pose_statistics);
+    dealii::FullMatrix<double>
+    rigid_stiffness(const PoseSystem &system) const;
 
     /** u_0 and its observations for the basis coefficients @p c. */
     void

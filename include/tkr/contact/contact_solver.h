@@ -13,7 +13,7 @@
 #include <deal.II/lac/trilinos_vector.h>
 
 #include <tkr/contact/contact_state.h>
-#include <tkr/contact/pose_system.h>
+#include <tkr/contact/pose_newton.h>
 #include <tkr/elasticity/linear_elasticity.h>
 #include <tkr/mortar/mortar_coupling.h>
 #include <tkr/parameters/parameters.h>
@@ -98,28 +98,18 @@ namespace TKR::Contact
           ContactState              &state);
 
     /**
-     * Whether solve_with_pose() is available (the condensed active set:
-     * it needs the compliance columns of the contact nodes).
+     * The analytic derivatives of the pose equations of @p system for the
+     * pose Newton (PoseNewton), or none (nullptr: use FiniteDifferencePose).
+     * The condensed active set has them (it keeps the compliance columns
+     * of the contact nodes).
      */
-    virtual bool
-    can_solve_pose() const
+    virtual std::unique_ptr<PoseDerivatives>
+    pose_derivatives(PoseSystem &system, const double initial_distance)
     {
-      return false;
+      (void)system;
+      (void)initial_distance;
+      return nullptr;
     }
-
-    /**
-     * Solve the contact problem on the load basis together with the rigid
-     * unknowns @p q of @p system (updated); the coupling must be that of
-     * @p q on entry. See CondensedActiveSetSolver::solve_with_pose().
-     */
-    virtual ContactStatistics
-    solve_with_pose(PoseSystem          &system,
-                    std::vector<double> &q,
-                    const double         tolerance,
-                    const unsigned int   max_iterations,
-                    const double         initial_distance,
-                    ContactState        &state,
-                    PoseStatistics      &pose_statistics);
 
     /**
      * Precompute what the solves after a setup() will probably need, from

@@ -13,9 +13,8 @@ namespace TKR::Contact
 {
   /**
    * The rigid unknowns of a body held by contact (the tibial tray's pose,
-   * a few numbers q), as a contact solver that solves them together with
-   * the contact multipliers sees them (CondensedActiveSetSolver::
-   * solve_with_pose()). The contact solver knows nothing of gaits: the
+   * a few numbers q), as the pose Newton (PoseNewton) and its derivatives
+   * (PoseDerivatives) see them. The contact solver knows nothing of gaits: the
    * caller says how q moves the geometry, what it does to the loads, and
    * which observed functionals of the displacement must vanish at
    * equilibrium.
@@ -83,9 +82,12 @@ namespace TKR::Contact
   /** What a solve with the pose did. */
   struct PoseStatistics
   {
-    /** Newton iterations on multipliers and pose together. */
+    /** Newton steps of the pose (PoseNewton). */
     unsigned int n_iterations = 0;
-    /** Contact solutions at a pose (the first one and the line search's). */
+    /**
+     * Contact solutions at a pose (the first one, the line search's and the
+     * finite differences').
+     */
     unsigned int n_solves = 0;
     /** Line search step cuts summed over the iterations. */
     unsigned int n_step_cuts = 0;
@@ -102,7 +104,8 @@ namespace TKR::Contact
     unsigned int n_descent_fallbacks = 0;
     /**
      * Newton matrices that were singular (no active node holds some pose
-     * unknown) and were regularised.
+     * unknown, or with finite differences an unknown that moves no
+     * observation) and were regularised.
      */
     unsigned int n_regularised = 0;
     /** The largest |r_p| (mm) of the final solve. */

@@ -51,7 +51,8 @@ namespace TKR::Gait
   /** What the pose solve of a step did. */
   struct PoseSolve
   {
-    /** Updates of the pose (contact solves - 1). */
+    /** Updates of the pose (Newton steps; with a cut-back's, each of its
+     *  solves counted as one more). */
     unsigned int n_updates = 0;
     /** The pose met its tolerance (and every contact solve converged). */
     bool converged = false;

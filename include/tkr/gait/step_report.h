@@ -66,9 +66,11 @@ namespace TKR::Gait
     Pose pose;
     /** The protocol's numbers of the pose (Protocol::pose_columns()). */
     std::vector<double> pose_values;
-    /** Active nodes at the end, Newton iterations summed over the pose
-     * updates, pose updates. */
-    unsigned int active_nodes = 0, newton_iterations = 0, pose_updates = 0;
+    /** Active nodes at the end, active set iterations summed over the
+     * contact solves, pose updates (Newton steps of the pose), contact
+     * solves. */
+    unsigned int active_nodes = 0, newton_iterations = 0, pose_updates = 0,
+                 contact_solves = 0;
     /** Peak pressure (MPa), contact force (N) and area (mm^2). */
     double max_pressure = 0, contact_force = 0, contact_area = 0;
     /** The resultant of the contact forces on the tibia (N). */
@@ -99,7 +101,7 @@ namespace TKR::Gait
       archive &contact_resultant                &contact_moment;
       archive &converged &pose_converged        &wall_time;
       archive &pose_residual &contact_converged &pose_fallbacks;
-      archive                                   &sub_steps;
+      archive &sub_steps                        &contact_solves;
     }
   };
 

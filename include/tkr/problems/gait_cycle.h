@@ -179,10 +179,13 @@ namespace TKR::Problems
 
     /**
      * The pose solve of step @p step at @p input from @p pose (updated):
-     * the protocol's pose equations (Gait::PoseEquations) by Newton's
-     * method, with the contact (coupled_pose_solve()) where the solver
-     * differentiates its solution by the pose (the condensed active set),
-     * else on the pose alone (reduced_pose_solve()).
+     * Contact::PoseNewton on the protocol's pose equations
+     * (Gait::PoseEquations), each residual a contact solve at a pose (in
+     * the coupling window if there is one, again on the whole search
+     * distance if the solution leaves it), the Newton steps from the
+     * solver's analytic derivatives (the condensed active set) where
+     * `Gait/Pose derivatives = analytic`, else by finite differences
+     * (Contact::FiniteDifferencePose).
      */
     Gait::PoseSolve
     solve_pose(const unsigned int     step,
@@ -237,46 +240,6 @@ namespace TKR::Problems
     start_step(const unsigned int     step,
                const Gait::StepInput &input,
                StepProgress          &progress);
-
-    /**
-     * One contact solve of step @p step at @p pose: the mortar coupling on
-     * the moved geometry (in the coupling window if there is one, again on
-     * the whole search distance if the solve leaves it), the solve, the
-     * observations. Returns whether it converged.
-     */
-    bool
-    contact_solve(const unsigned int     step,
-                  const Gait::StepInput &input,
-                  const Gait::Pose      &pose,
-                  StepProgress          &progress);
-
-    /**
-     * The pose of step @p step solved together with the contact from
-     * @p pose (updated): Contact::ContactSolver::solve_with_pose() with the
-     * protocol's Gait::PoseEquations (in the coupling window if there is
-     * one, again on the whole search distance if the solution leaves it).
-     */
-    Gait::PoseSolve
-    coupled_pose_solve(const unsigned int     step,
-                       const Gait::StepInput &input,
-                       Gait::Pose            &pose,
-                       StepProgress          &progress);
-
-    /**
-     * The pose of step @p step from @p pose (updated) for a solver that
-     * does not differentiate its solution by the pose (the AMG-CG active
-     * set, Ipopt), or where `Gait/Pose derivatives = finite differences`
-     * asks for it (a check of the analytic ones): Newton's method on the
-     * protocol's pose equations alone, each residual a converged contact
-     * solve at a fixed pose, the Jacobian by forward differences (one
-     * contact solve per unknown), the step halved until the largest
-     * residual decreases.
-     */
-    Gait::PoseSolve
-    reduced_pose_solve(const unsigned int     step,
-                       const Gait::StepInput &input,
-                       Gait::Pose            &pose,
-                       StepProgress          &progress);
 
     /**
      * Warn if `Gait/Flexion axis point` is more than flexion_axis_limit
@@ -367,9 +330,6 @@ namespace TKR::Problems
     /** The protocol's pose unknowns and equations (solve_pose() solves
      *  them). */
     Gait::PoseEquations pose_equations;
-    /** The pose equations are solved with the contact (coupled_pose_solve())
-     *  rather than on the pose alone (reduced_pose_solve()). */
-    bool coupled_pose = true;
     /** At most this many Newton iterations or updates of a step's pose. */
     static constexpr unsigned int max_pose_iterations = 40;
     /** Check the overlap at step 0 in this solve() (initial geometry). */
