@@ -61,6 +61,8 @@ namespace TKR
                            "entries (tkr-wear --model-example " + name +
                            ")\nsubsection " + models.section + "\n  set " +
                            models.selector + " = " + name + "\n";
+        for (const auto &[entry, value] : entries.section_example)
+          text += "  set " + entry + " = " + value + "\n";
         if (!entries.example.empty())
           {
             text += "  subsection " + entries.subsection + "\n";

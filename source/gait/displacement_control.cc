@@ -88,7 +88,12 @@ namespace TKR::Gait
                                    prm.get_double("IE rotation sign")};
         },
         {},
-        {"AP displacement sign", "IE rotation sign"}},
+        {"AP displacement sign", "IE rotation sign"},
+        {},
+        {},
+        {},
+        {},
+        {{"Waveform file", "data/iso14243-3.csv"}}},
        [](const Parameters::Gait &parameters,
           const std::any         &own,
           const InferiorSurface  &surface) -> std::unique_ptr<Protocol> {

@@ -66,6 +66,11 @@ namespace TKR
      * block's rate is not its first cycle's, and blocks must be shorter).
      */
     std::vector<std::string> traits = {};
+    /**
+     * Entries of the kind's own section (e.g. `Gait/Waveform file`), with
+     * values, that the example also needs: printed with the example.
+     */
+    std::vector<std::pair<std::string, std::string>> section_example = {};
   };
 
   /**
