@@ -14,6 +14,7 @@
 #include <tkr/problems/calibration_problem.h>
 #include <tkr/problems/contact_problem.h>
 #include <tkr/problems/elasticity_problem.h>
+#include <tkr/problems/optimisation_problem.h>
 #include <tkr/problems/study_problem.h>
 #include <tkr/problems/wear_problem.h>
 
@@ -58,17 +59,18 @@ namespace
     if (dealii::Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
       for (const std::string &note : parameters.notes)
         std::cout << "Note: " << note << std::endl;
-    AssertThrow(!resume ||
-                  parameters.problem == Parameters::ProblemType::wear ||
-                  parameters.problem == Parameters::ProblemType::study,
+    const bool stoppable =
+      parameters.problem == Parameters::ProblemType::wear ||
+      parameters.problem == Parameters::ProblemType::study ||
+      parameters.problem == Parameters::ProblemType::optimisation;
+    AssertThrow(!resume || stoppable,
                 ExcInputError("--resume continues a wear run (Problem = "
-                              "wear) or a study; <" +
+                              "wear), a study or an optimisation; <" +
                               filename + "> sets Problem = " +
                               Parameters::to_string(parameters.problem) + "."));
-    // A cluster's time limit: a wear run or a study stops with a
-    // checkpoint (doc/cluster.md).
-    if (parameters.problem == Parameters::ProblemType::wear ||
-        parameters.problem == Parameters::ProblemType::study)
+    // A cluster's time limit: a wear run, a study or an optimisation stops
+    // with a checkpoint (doc/cluster.md).
+    if (stoppable)
       install_stop_handlers();
     switch (parameters.problem)
       {
@@ -97,6 +99,13 @@ namespace
         case Parameters::ProblemType::calibration:
           {
             Problems::CalibrationProblem problem(parameters, mpi_communicator);
+            return problem.run() ? 0 : 1;
+          }
+        case Parameters::ProblemType::optimisation:
+          {
+            Problems::OptimisationProblem problem(parameters,
+                                                  mpi_communicator,
+                                                  resume);
             return problem.run() ? 0 : 1;
           }
       }

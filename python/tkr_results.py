@@ -111,6 +111,7 @@ STUDY_JSON_KEYS = {f["name"]: f["type"] for f in SCHEMA["study.json"]}
 STUDY_CASE_KEYS = {f["name"]: f["type"] for f in SCHEMA["study.json cases"]}
 STATUS_JSON_KEYS = {f["name"]: f["type"] for f in SCHEMA["status.json"]}
 CALIBRATION_JSON_KEYS = {f["name"]: f["type"] for f in SCHEMA["calibration.json"]}
+OPTIMISATION_JSON_KEYS = {f["name"]: f["type"] for f in SCHEMA["optimisation.json"]}
 
 # The solver's traces: iteration and solve counts say how the solver got
 # there, not what it computed; compared files leave them out
@@ -122,6 +123,7 @@ JSON_FILES = {
     "summary.json": {key: kind for key, (kind, _) in SUMMARY_KEYS.items()},
     "status.json": STATUS_JSON_KEYS,
     "calibration.json": CALIBRATION_JSON_KEYS,
+    "optimisation.json": OPTIMISATION_JSON_KEYS,
     "study.json": STUDY_JSON_KEYS,
 }
 CSV_FILES = {

@@ -13,7 +13,8 @@ TKR_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 # because tkr-wear uses them directly.
 # black, flake8: the Python half of the format check (scripts/indent);
 # python3-pytest: the Python unit tests (ctest -R python/unit).
-TKR_PACKAGES="libdeal.ii-dev gmsh coinor-libipopt-dev numdiff clang-format cmake g++ make pkg-config libopenblas0-pthread libsuitesparse-dev libmumps-dev python3-matplotlib python3-numpy python3-gmsh python3-scipy libcgal-dev black flake8 python3-pytest"
+# libnlopt-cxx-dev: NLopt's COBYLA and BOBYQA for Problem = optimisation.
+TKR_PACKAGES="libdeal.ii-dev gmsh coinor-libipopt-dev numdiff clang-format cmake g++ make pkg-config libopenblas0-pthread libsuitesparse-dev libmumps-dev python3-matplotlib python3-numpy python3-gmsh python3-scipy libcgal-dev libnlopt-cxx-dev black flake8 python3-pytest"
 TKR_JOBS=${TKR_JOBS:-$(nproc)}
 
 # OpenMPI refuses to start as root unless told that this is intended.

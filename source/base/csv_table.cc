@@ -148,4 +148,17 @@ namespace TKR
   {
     return "The " + what + " <" + filename + ">";
   }
+
+  std::string
+  csv_field(const std::string &text)
+  {
+    if (text.find_first_of(",\"\n") == std::string::npos)
+      return text;
+    std::string out = "\"";
+    for (const char c : text)
+      out += (c == '"'  ? std::string("\"\"") :
+              c == '\n' ? std::string(" ") :
+                          std::string(1, c));
+    return out + "\"";
+  }
 } // namespace TKR

@@ -224,14 +224,17 @@ namespace TKR::Parameters
     prm.declare_entry("Problem",
                       "wear",
                       Patterns::Selection(
-                        "wear|contact|elasticity|study|calibration"),
+                        "wear|contact|elasticity|study|calibration|"
+                        "optimisation"),
                       "wear: the ISO 14243-1 wear run; contact: one static "
                       "contact solve; elasticity: both bodies loaded "
                       "separately, without contact (demonstration); study: "
                       "many variants of a wear run (subsection Study, "
                       "doc/studies.md); calibration: fit the wear model to "
                       "measured mass loss (subsection Calibration, "
-                      "doc/calibration.md).");
+                      "doc/calibration.md); optimisation: the entries of a "
+                      "wear run that minimise one of its results "
+                      "(subsection Optimisation, doc/optimisation.md).");
     Mesh::declare_parameters(prm);
     Materials::declare_parameters(prm);
     Elasticity::declare_parameters(prm);
@@ -244,6 +247,7 @@ namespace TKR::Parameters
     Verification::declare_parameters(prm);
     Study::declare_parameters(prm);
     Calibration::declare_parameters(prm);
+    Optimisation::declare_parameters(prm);
   }
 
   void
@@ -254,7 +258,8 @@ namespace TKR::Parameters
                               name == "contact"     ? ProblemType::contact :
                               name == "study"       ? ProblemType::study :
                               name == "calibration" ? ProblemType::calibration :
-                                                      ProblemType::elasticity);
+                              name == "optimisation" ? ProblemType::optimisation :
+                                                       ProblemType::elasticity);
     mesh.parse_parameters(prm);
     materials.parse_parameters(prm);
     elasticity.parse_parameters(prm);
@@ -267,6 +272,7 @@ namespace TKR::Parameters
     verification.parse_parameters(prm);
     study.parse_parameters(prm);
     calibration.parse_parameters(prm);
+    optimisation.parse_parameters(prm);
   }
 
   void
@@ -395,7 +401,9 @@ namespace TKR::Parameters
                                         "Output/Measured mass loss file",
                                         "Study/Base parameter file",
                                         "Study/Cases file",
-                                        "Study/Mesh generator"};
+                                        "Study/Mesh generator",
+                                        "Optimisation/Base parameter file",
+                                        "Optimisation/Mesh generator"};
       for (const std::string &entry : model_file_entries())
         files.push_back(entry);
       for (const std::string &entry : files)
@@ -474,6 +482,8 @@ namespace TKR::Parameters
           return "study";
         case ProblemType::calibration:
           return "calibration";
+        case ProblemType::optimisation:
+          return "optimisation";
       }
     return "";
   }

@@ -30,6 +30,8 @@ namespace TKR::Problems
       std::vector<std::string> values;
       /** "FILE:LINE" of the study entry that names it. */
       std::string place;
+      /** The subsection of that entry (for the messages). */
+      std::string owner = "Study";
     };
 
     std::string
@@ -177,7 +179,7 @@ namespace TKR::Problems
           }
       if (moved)
         return;
-      const std::string what = "Study " + setting.place + ": " +
+      const std::string what = setting.owner + " " + setting.place + ": " +
                                study_case.name + " sets <" + setting.input +
                                "> " + setting.op + " <" + value + ">";
       const auto known = base.entries.find(path);
@@ -221,6 +223,22 @@ namespace TKR::Problems
       study_case.inputs.emplace_back(setting.input, result);
     }
   } // namespace
+
+  void
+  set_case_input(const std::string               &input,
+                 const std::string               &value,
+                 const Parameters::AllParameters &base,
+                 const std::string               &owner,
+                 const std::string               &place,
+                 StudyCase                       &study_case)
+  {
+    Setting setting;
+    setting.input = input;
+    setting.op    = "=";
+    setting.place = place;
+    setting.owner = owner;
+    apply(setting, value, base, study_case);
+  }
 
   double
   standard_normal_quantile(const double p)

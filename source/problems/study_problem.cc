@@ -4,13 +4,12 @@
 #include <deal.II/base/mpi.h>
 
 #include <tkr/base/atomic_file.h>
+#include <tkr/base/csv_table.h>
 #include <tkr/base/exceptions.h>
-#include <tkr/base/process.h>
 #include <tkr/base/result_schema.h>
 #include <tkr/output/summary.h>
 #include <tkr/output/wear_output.h>
 #include <tkr/problems/study_problem.h>
-#include <tkr/problems/wear_problem.h>
 
 #include <boost/property_tree/json_parser.hpp>
 #include <boost/property_tree/ptree.hpp>
@@ -28,19 +27,6 @@ namespace TKR::Problems
 
   namespace
   {
-    std::string
-    csv_field(const std::string &text)
-    {
-      if (text.find_first_of(",\"\n") == std::string::npos)
-        return text;
-      std::string out = "\"";
-      for (const char c : text)
-        out += (c == '"'  ? std::string("\"\"") :
-                c == '\n' ? std::string(" ") :
-                            std::string(1, c));
-      return out + "\"";
-    }
-
     /** A case's status.json: its fields and its results (the text of
      *  each value), both empty if the file is absent or broken. */
     struct CaseStatus
@@ -195,16 +181,6 @@ namespace TKR::Problems
     }
   } // namespace
 
-  std::vector<std::string>
-  StudyProblem::generator_command() const
-  {
-    std::vector<std::string> command = {parameters.study.mesh_generator};
-    std::istringstream arguments(parameters.study.mesh_generator_arguments);
-    for (std::string argument; arguments >> argument;)
-      command.push_back(argument);
-    return command;
-  }
-
   StudyProblem::StudyProblem(const Parameters::AllParameters &parameters,
                              const MPI_Comm                   mpi_communicator,
                              const bool                       resume)
@@ -212,40 +188,14 @@ namespace TKR::Problems
     , mpi_communicator(mpi_communicator)
     , resume(resume)
     , is_root(Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+    , runner("Study",
+             parameters.study.base_file,
+             parameters.study.mesh_generator,
+             parameters.study.mesh_generator_arguments,
+             resume,
+             mpi_communicator)
   {
-    AssertThrow(!parameters.study.base_file.empty(),
-                ExcInputError("Problem = study needs Study/Base parameter "
-                              "file: the wear run whose variants the cases "
-                              "are."));
-    const Parameters::AllParameters base =
-      Parameters::read_parameters(parameters.study.base_file);
-    AssertThrow(base.problem == Parameters::ProblemType::wear,
-                ExcInputError(
-                  "Study/Base parameter file <" + parameters.study.base_file +
-                  "> sets Problem = " + Parameters::to_string(base.problem) +
-                  "; a study varies a wear run (Problem = "
-                  "wear)."));
-    // The generator's parameters count as entries Generator/NAME of the
-    // base (for += and *=, and to refuse a name it does not have).
-    Parameters::AllParameters varied = base;
-    if (!parameters.study.mesh_generator.empty())
-      {
-        std::string listing;
-        on_root(
-          [&]() {
-            std::vector<std::string> command = generator_command();
-            command.push_back("--print");
-            listing = run_process(command, "Study/Mesh generator");
-          },
-          mpi_communicator);
-        listing = Utilities::MPI::broadcast(mpi_communicator, listing, 0);
-        std::istringstream in(listing);
-        for (std::string line; std::getline(in, line);)
-          if (const auto equal = line.find('='); equal != std::string::npos)
-            varied.entries["Generator/" + line.substr(0, equal)] =
-              line.substr(equal + 1);
-      }
-    cases = make_study_cases(parameters, varied);
+    cases = make_study_cases(parameters, runner.base());
     const unsigned int n_ranks =
       Utilities::MPI::n_mpi_processes(mpi_communicator);
     AssertThrow(n_ranks % parameters.study.ranks_per_case == 0,
@@ -265,26 +215,16 @@ namespace TKR::Problems
   void
   StudyProblem::write_case_files() const
   {
-    const std::string base_file =
-      std::filesystem::absolute(parameters.study.base_file).string();
     on_root(
       [&]() {
         for (unsigned int i = 0; i < cases.size(); ++i)
           {
             const std::string directory = case_directory(i);
-            std::filesystem::create_directories(directory);
-            std::map<std::string, std::string> entries = cases[i].entries;
-            entries["Output/Directory"]                = directory;
-            write_atomically(
-              directory + "/case.prm",
-              case_parameter_text(base_file,
-                                  parameters.study.mesh_generator.empty() ?
-                                    std::vector<std::string>() :
-                                    std::vector<std::string>{"mesh.prm"},
-                                  entries,
-                                  cases[i].name + " of the study <" +
-                                    parameters.parameter_file +
-                                    ">: tkr-wear case.prm repeats it alone."));
+            runner.write_parameter_file(
+              directory,
+              cases[i].entries,
+              cases[i].name + " of the study <" + parameters.parameter_file +
+                ">: tkr-wear case.prm repeats it alone.");
             if (!resume)
               std::filesystem::remove(directory + "/status.json");
           }
@@ -355,92 +295,6 @@ namespace TKR::Problems
     return n_failed == 0;
   }
 
-  // The case's mesh (on the group's rank 0; its error on every rank of the
-  // group), by the Mesh generator with the case's Generator/ entries.
-  void
-  StudyProblem::make_case_mesh(const unsigned int index,
-                               const StepGroups  &group) const
-  {
-    if (parameters.study.mesh_generator.empty())
-      return;
-    const std::string directory = case_directory(index);
-    std::string       error;
-    if (group.is_group_root)
-      try
-        {
-          std::vector<std::string> command = generator_command();
-          for (const auto &[path, value] : cases[index].entries)
-            if (path.rfind("Generator/", 0) == 0)
-              command.insert(command.end(),
-                             {"--set", path.substr(10) + "=" + value});
-          command.insert(
-            command.end(),
-            {"-o", directory + "/mesh.msh", "--prm", directory + "/mesh.prm"});
-          std::cout << run_process(command, "the mesh generator");
-        }
-      catch (const ExcInputError &exc)
-        {
-          error = exception_message(exc);
-        }
-    error = Utilities::MPI::broadcast(group.communicator, error, 0);
-    AssertThrow(error.empty(), ExcInputError(error));
-  }
-
-  // The case's wear run, its output in its log.txt; an error of the run is
-  // the case's failure, its message the reason (on one line: deal.II's
-  // messages of the parameter checks span several).
-  StudyProblem::CaseOutcome
-  StudyProblem::run_wear_case(const unsigned int index,
-                              const StepGroups  &group) const
-  {
-    const std::string directory = case_directory(index);
-    CaseOutcome       outcome;
-    CaseOutput        output(directory + "/log.txt", group.is_group_root);
-    try
-      {
-        make_case_mesh(index, group);
-        const Parameters::AllParameters case_parameters =
-          Parameters::read_parameters(directory + "/case.prm");
-        outcome.resumed =
-          resume && std::filesystem::exists(directory + "/checkpoint.h5");
-        WearProblem problem(case_parameters,
-                            group.communicator,
-                            outcome.resumed);
-        const bool  converged = problem.run();
-        outcome.results       = problem.result().named_values();
-        if (!converged)
-          {
-            outcome.status = "failed";
-            outcome.reason = "a contact solve, pose iteration or load balance "
-                             "did not converge (log.txt; summary.json lists "
-                             "the steps)";
-          }
-      }
-    catch (const ExcStopped &exc)
-      {
-        // Its checkpoint written: --resume continues the case.
-        outcome.status = "stopped";
-        outcome.reason = exception_message(exc);
-      }
-    catch (const ExceptionBase &exc)
-      {
-        outcome.status = "failed";
-        outcome.reason = exception_message(exc);
-      }
-    catch (const std::exception &exc)
-      {
-        outcome.status = "failed";
-        outcome.reason = exc.what();
-      }
-    std::istringstream words(outcome.reason);
-    outcome.reason.clear();
-    for (std::string word; words >> word;)
-      outcome.reason += (outcome.reason.empty() ? "" : " ") + word;
-    if (!outcome.reason.empty())
-      std::cout << cases[index].name << ": " << outcome.reason << std::endl;
-    return outcome;
-  }
-
   bool
   StudyProblem::run_case(const unsigned int index,
                          const StepGroups  &group,
@@ -453,8 +307,11 @@ namespace TKR::Problems
     if (Utilities::MPI::broadcast(group.communicator, skip, 0))
       return false;
 
-    const double      start   = MPI_Wtime();
-    const CaseOutcome outcome = run_wear_case(index, group);
+    const double              start   = MPI_Wtime();
+    const CaseRunner::Outcome outcome = runner.run(case_directory(index),
+                                                   cases[index].entries,
+                                                   group,
+                                                   cases[index].name);
     // Stopped on every rank of the group (the stop is agreed in it): no
     // status, so that --resume continues the case.
     if (outcome.status == "stopped")

@@ -303,6 +303,61 @@ namespace
                               [](const P &p) {
                                 return num(p.study.ranks_per_case);
                               }},
+                             {"Optimisation/Base parameter file",
+                              source + "/prm/iso14243-1-coarse.prm",
+                              [](const P &p) {
+                                return file_name(p.optimisation.base_file);
+                              },
+                              true},
+                             {"Optimisation/Variables",
+                              "Gait/ML spring stiffness = 5 .. 25",
+                              [](const P &p) {
+                                return p.optimisation.variables;
+                              }},
+                             {"Optimisation/Objective",
+                              "maximise mass_loss_mg",
+                              [](const P &p) {
+                                return p.optimisation.objective;
+                              }},
+                             {"Optimisation/Constraints",
+                              "max_pressure_MPa <= 25",
+                              [](const P &p) {
+                                return p.optimisation.constraints;
+                              }},
+                             {"Optimisation/Method",
+                              "bobyqa",
+                              [](const P &p) { return p.optimisation.method; }},
+                             {"Optimisation/Maximum evaluations",
+                              "12",
+                              [](const P &p) {
+                                return num(p.optimisation.maximum_evaluations);
+                              }},
+                             {"Optimisation/Tolerance",
+                              "0.01",
+                              [](const P &p) {
+                                return num(p.optimisation.tolerance);
+                              }},
+                             {"Optimisation/Initial step",
+                              "0.125",
+                              [](const P &p) {
+                                return num(p.optimisation.initial_step);
+                              }},
+                             {"Optimisation/Mesh generator",
+                              source + "/meshes/gen/tkr_variant.py",
+                              [](const P &p) {
+                                return file_name(p.optimisation.mesh_generator);
+                              },
+                              true},
+                             {"Optimisation/Mesh generator arguments",
+                              "--variant b",
+                              [](const P &p) {
+                                return p.optimisation.mesh_generator_arguments;
+                              }},
+                             {"Optimisation/Test function",
+                              "quadratic",
+                              [](const P &p) {
+                                return p.optimisation.test_function;
+                              }},
                              {"Gait/Flexion axis point",
                               "1, -3, 50",
                               [](const P &p) {

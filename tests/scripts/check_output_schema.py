@@ -127,14 +127,15 @@ def check_doc(doc):
                 f"steps.csv: {column}: written by {', '.join(protocols[column])} in "
                 f"doc/output.md, {', '.join(sorted(writers_of_column))} in tkr_results"
             )
-    # study.json (its keys, then the keys of each case), status.json and
-    # calibration.json:
+    # study.json (its keys, then the keys of each case), status.json,
+    # calibration.json and optimisation.json:
     # key | type | meaning
     for name, keys, index in (
         ("study.json", tkr_results.STUDY_JSON_KEYS, 0),
         ("study.json cases", tkr_results.STUDY_CASE_KEYS, 1),
         ("status.json", tkr_results.STATUS_JSON_KEYS, 0),
         ("calibration.json", tkr_results.CALIBRATION_JSON_KEYS, 0),
+        ("optimisation.json", tkr_results.OPTIMISATION_JSON_KEYS, 0),
     ):
         rows = tables[name.split()[0]][index] if len(tables[name.split()[0]]) > index else []
         problems += compare(name, [r[0] for r in rows], list(keys))

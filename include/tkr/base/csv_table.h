@@ -87,6 +87,14 @@ namespace TKR
     std::vector<std::vector<double>> values;
     std::vector<unsigned int>        lines;
   };
+
+  /**
+   * @p text as a field of a CSV file: as it is, or in double quotes (its
+   * quotes doubled, line breaks as spaces) if it holds a comma, a quote or
+   * a line break.
+   */
+  std::string
+  csv_field(const std::string &text);
 } // namespace TKR
 
 #endif

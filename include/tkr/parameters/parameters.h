@@ -474,6 +474,40 @@ namespace TKR::Parameters
     parse_parameters(dealii::ParameterHandler &prm);
   };
 
+  /**
+   * `subsection Optimisation` (`Problem = optimisation`,
+   * doc/optimisation.md): the entries of a wear run that minimise (or
+   * maximise) one of its results within bounds and constraints on others.
+   */
+  struct Optimisation
+  {
+    /** The parameter file of the wear run (resolved). */
+    std::string base_file;
+    /** `PATH = LOWER .. UPPER [log]` separated by `;`. */
+    std::string variables;
+    /** `minimise KEY` or `maximise KEY`. */
+    std::string objective;
+    /** `KEY <= VALUE` or `KEY >= VALUE` separated by `;`. */
+    std::string constraints;
+    /** `cobyla` or `bobyqa` (NLopt). */
+    std::string method;
+    /** Evaluations at most. */
+    unsigned int maximum_evaluations;
+    /** NLopt's xtol_rel on the variables in unit coordinates. */
+    double tolerance;
+    /** The first step, as a fraction of each variable's range. */
+    double initial_step;
+    /** As Study's (resolved; "" for none). */
+    std::string mesh_generator, mesh_generator_arguments;
+    /** `none` (wear runs) or `quadratic` (a known function, for tests). */
+    std::string test_function;
+
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+    void
+    parse_parameters(dealii::ParameterHandler &prm);
+  };
+
   /** The problems the program solves (`set Problem = ...`). */
   enum class ProblemType
   {
@@ -481,7 +515,8 @@ namespace TKR::Parameters
     contact,
     wear,
     study,
-    calibration
+    calibration,
+    optimisation
   };
 
   /** All parameters of a run. */
@@ -500,6 +535,7 @@ namespace TKR::Parameters
     Verification  verification;
     Study         study;
     Calibration   calibration;
+    Optimisation  optimisation;
     /**
      * The activity mix of `Gait/Activities` (empty: none, the run's gait
      * is `gait`); read by read_parameters().

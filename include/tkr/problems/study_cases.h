@@ -49,6 +49,22 @@ namespace TKR::Problems
                    const Parameters::AllParameters &base);
 
   /**
+   * Set the input @p input of @p study_case (an entry "Subsection/Entry"
+   * of @p base, "PATH[i]" for a component of a vector entry, or a moved
+   * entry's old path) to @p value, as a study's `PATH = VALUE` does.
+   * ExcInputError naming @p owner (a subsection), @p place ("FILE:LINE"),
+   * the case, the entry and the value for an entry @p base does not have
+   * or a component out of range.
+   */
+  void
+  set_case_input(const std::string               &input,
+                 const std::string               &value,
+                 const Parameters::AllParameters &base,
+                 const std::string               &owner,
+                 const std::string               &place,
+                 StudyCase                       &study_case);
+
+  /**
    * The quantile of the standard normal distribution at @p p in (0, 1)
    * (Acklam's rational approximation refined by one Halley step on
    * std::erfc: about 1e-15 relative).

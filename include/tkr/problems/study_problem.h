@@ -6,6 +6,7 @@
 
 #include <tkr/base/mpi.h>
 #include <tkr/parameters/parameters.h>
+#include <tkr/problems/case_runner.h>
 #include <tkr/problems/study_cases.h>
 
 #include <string>
@@ -43,23 +44,6 @@ namespace TKR::Problems
     run();
 
   private:
-    /** How a case ended: "done" or "failed" (with the reason), whether it
-     *  was resumed, and its results (Wear::RunResult::named_values()). */
-    struct CaseOutcome
-    {
-      std::string                                 status  = "done", reason;
-      bool                                        resumed = false;
-      std::vector<std::pair<std::string, double>> results;
-    };
-
-    /** The mesh of case @p index, if the study has a Mesh generator. */
-    void
-    make_case_mesh(const unsigned int index, const StepGroups &group) const;
-
-    /** The wear run of case @p index on this group. */
-    CaseOutcome
-    run_wear_case(const unsigned int index, const StepGroups &group) const;
-
     /** Run case @p index on this group; its status record. True if a
      *  stop signal ended it (no status: --resume continues it). */
     bool
@@ -81,16 +65,13 @@ namespace TKR::Problems
     std::string
     case_directory(const unsigned int index) const;
 
-    /** `Mesh generator` and its fixed arguments (`Mesh generator
-     *  arguments`, separated by white space). */
-    std::vector<std::string>
-    generator_command() const;
-
     const Parameters::AllParameters parameters;
     const MPI_Comm                  mpi_communicator;
     const bool                      resume;
     const bool                      is_root;
-    std::vector<StudyCase>          cases;
+    /** Writes and runs the cases. */
+    const CaseRunner       runner;
+    std::vector<StudyCase> cases;
   };
 } // namespace TKR::Problems
 

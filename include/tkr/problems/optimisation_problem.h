@@ -1,0 +1,173 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+
+#ifndef tkr_problems_optimisation_problem_h
+#define tkr_problems_optimisation_problem_h
+
+#include <tkr/base/mpi.h>
+#include <tkr/parameters/parameters.h>
+#include <tkr/problems/case_runner.h>
+
+#include <boost/serialization/string.hpp>
+#include <boost/serialization/vector.hpp>
+
+#include <exception>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace TKR::Problems
+{
+  /**
+   * `Problem = optimisation` (doc/optimisation.md): the values of some
+   * entries of a wear run (the variables, within bounds) that minimise or
+   * maximise one of its results (the objective) with others within limits
+   * (the constraints), by a derivative-free method of NLopt (COBYLA or
+   * BOBYQA) on the variables scaled to 0 .. 1. Each evaluation is a wear
+   * run of the base parameter file with the variables set (CaseRunner: on
+   * all ranks, in <Output/Directory>/eval-NNNN, its mesh regenerated if
+   * there is a mesh generator), kept with its log and its results; a
+   * failed or unconverged run is a failed point for the method (worse than
+   * every done one, every constraint violated), never a good one. With
+   * --resume the method is replayed (it is deterministic) and the
+   * evaluations with an evaluation.json are read instead of run. At the
+   * end: optimisation.csv (every evaluation), optimisation.json (the best
+   * design), best.prm (and best.msh with a mesh generator).
+   */
+  class OptimisationProblem
+  {
+  public:
+    /**
+     * Checks every input before any run: the variables' paths against the
+     * base file, their bounds and the start within them, the objective and
+     * the constraints against the result schema (ExcInputError naming the
+     * file, line and entry).
+     */
+    OptimisationProblem(const Parameters::AllParameters &parameters,
+                        const MPI_Comm                   mpi_communicator,
+                        const bool                       resume);
+
+    /** Run the method; true if it found a feasible design. */
+    bool
+    run();
+
+    /** A variable: its path as the entry names it, bounds, scale, start. */
+    struct Variable
+    {
+      std::string input;
+      double      lower = 0, upper = 0;
+      bool        log   = false;
+      double      start = 0;
+
+      /** The value at the unit coordinate @p u (0: lower, 1: upper). */
+      double
+      value(const double u) const;
+
+      /** The unit coordinate of the value @p x. */
+      double
+      unit(const double x) const;
+    };
+
+    /** A constraint `KEY <= VALUE` (at_most) or `KEY >= VALUE`. */
+    struct Constraint
+    {
+      std::string key;
+      bool        at_most = true;
+      double      value   = 0;
+
+      /** How far @p result violates it, relative to |VALUE| (if not 0):
+       *  <= 0 if it holds. */
+      double
+      violation(const double result) const;
+    };
+
+    /** One evaluation. */
+    struct Evaluation
+    {
+      /** The variables' unit coordinates and values. */
+      std::vector<double> u, x;
+      /** done or failed (with the reason). */
+      std::string status = "done", reason;
+      /** The objective's and the constraints' results (done only). */
+      double              objective = 0;
+      std::vector<double> constraints;
+      double              wall_time = 0;
+      /** Read from its evaluation.json (--resume). */
+      bool resumed = false;
+
+      /** Done and every constraint holds (within 1e-9). */
+      bool
+      feasible(const std::vector<Constraint> &constraints) const;
+
+      template <class Archive>
+      void
+      serialize(Archive &archive, const unsigned int)
+      {
+        archive &u &x &status &reason &objective &constraints &wall_time
+          &resumed;
+      }
+    };
+
+  private:
+    /** The evaluation at @p u (an earlier one at the same point, or a new
+     *  one); its index. */
+    unsigned int
+    evaluate(const std::vector<double> &u);
+
+    /** Evaluation @p index at @p u: its wear run or the test function. */
+    Evaluation
+    run_evaluation(const unsigned int index, const std::vector<double> &u);
+
+    /** The results of the test function at @p u. */
+    std::map<std::string, double>
+    test_results(const std::vector<double> &u) const;
+
+    /** What the method minimises at evaluation @p index. */
+    double
+    merit(const unsigned int index) const;
+
+    /** The best feasible evaluation (the least violation if none). */
+    unsigned int
+    best() const;
+
+    std::string
+    directory(const unsigned int index) const;
+
+    /** Write evaluation @p index's evaluation.json (@p e); read it
+     *  (resume). */
+    void
+    write_evaluation(const unsigned int index, const Evaluation &e) const;
+    bool
+    read_evaluation(const unsigned int         index,
+                    const std::vector<double> &u,
+                    Evaluation                &evaluation) const;
+
+    /** optimisation.csv, optimisation.json, best.prm (rank 0). */
+    void
+    write_results(const std::string &stop_reason) const;
+
+    /** NLopt's callbacks: the objective and constraint @p c. */
+    static double
+    objective_callback(unsigned n, const double *u, double *, void *data);
+    static double
+    constraint_callback(unsigned n, const double *u, double *, void *data);
+
+    const Parameters::AllParameters parameters;
+    const MPI_Comm                  mpi_communicator;
+    const bool                      resume;
+    const bool                      is_root;
+    const CaseRunner                runner;
+    std::vector<Variable>           variables;
+    std::string                     objective_key;
+    bool                            maximise = false;
+    std::vector<Constraint>         constraints;
+    std::vector<Evaluation>         evaluations;
+    /** An exception of a callback, rethrown after NLopt returns. */
+    std::exception_ptr pending;
+    /** (this, constraint index) for each constraint's callback. */
+    std::vector<std::pair<OptimisationProblem *, unsigned int>> constraint_data;
+  };
+} // namespace TKR::Problems
+
+#endif

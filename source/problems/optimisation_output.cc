@@ -1,0 +1,194 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// This file is part of tkr-wear.
+//
+// The files of Problem = optimisation: each evaluation's evaluation.json,
+// optimisation.csv, optimisation.json (in the ResultSchema), best.prm.
+
+#include <tkr/base/atomic_file.h>
+#include <tkr/base/csv_table.h>
+#include <tkr/base/exceptions.h>
+#include <tkr/base/result_schema.h>
+#include <tkr/output/summary.h>
+#include <tkr/problems/optimisation_problem.h>
+
+#include <boost/property_tree/json_parser.hpp>
+#include <boost/property_tree/ptree.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+namespace TKR::Problems
+{
+  namespace
+  {
+    // The keys of optimisation.json.
+    // clang-format off
+    [[maybe_unused]] const bool declared = ResultSchema::declare(
+      "optimisation.json",
+      10,
+      {
+      {"problem", "string", "-", {}, "`optimisation`"},
+      {"method", "string", "-", {}, "`Optimisation/Method`"},
+      {"objective", "string", "-", {}, "`Optimisation/Objective`"},
+      {"constraints", "string", "-", {}, "`Optimisation/Constraints`"},
+      {"evaluations", "integer", "-", {}, "evaluations (wear runs, or the test function's) of the method"},
+      {"failed_evaluations", "integer", "-", {}, "evaluations whose run failed or did not converge"},
+      {"stop_reason", "string", "-", {}, "why the method stopped (NLopt's result)"},
+      {"feasible", "boolean", "-", {}, "the best evaluation satisfies every constraint"},
+      {"best_evaluation", "string", "-", {}, "the best evaluation's directory, `eval-NNNN`"},
+      {"best_objective", "number", "-", {}, "its objective (the result's unit)"},
+      {"best_inputs", "object", "-", {}, "its variables' values by path"},
+      {"start_objective", "number", "-", {}, "the objective of the start (the base file's values), `eval-0000`"}});
+    // clang-format on
+
+    std::string
+    number(const double value)
+    {
+      char buffer[64];
+      std::snprintf(buffer, sizeof(buffer), "%.12g", value);
+      return buffer;
+    }
+  } // namespace
+
+  // The evaluation's file: what --resume reads back.
+  void
+  OptimisationProblem::write_evaluation(const unsigned int index,
+                                        const Evaluation  &e) const
+  {
+    std::ostringstream json;
+    json << std::setprecision(17) << "{\n  \"status\": \"" << e.status
+         << "\",\n  \"reason\": " << Output::json_string(e.reason)
+         << ",\n  \"u\": [";
+    for (unsigned int i = 0; i < e.u.size(); ++i)
+      json << (i ? ", " : "") << e.u[i];
+    json << "],\n  \"objective\": " << e.objective << ",\n  \"constraints\": [";
+    for (unsigned int c = 0; c < e.constraints.size(); ++c)
+      json << (c ? ", " : "") << e.constraints[c];
+    json << "],\n  \"wall_time_s\": " << e.wall_time << "\n}\n";
+    write_atomically(directory(index) + "/evaluation.json", json.str());
+  }
+
+  bool
+  OptimisationProblem::read_evaluation(const unsigned int         index,
+                                       const std::vector<double> &u,
+                                       Evaluation &evaluation) const
+  {
+    const std::string file = directory(index) + "/evaluation.json";
+    if (!std::filesystem::exists(file))
+      return false;
+    boost::property_tree::ptree tree;
+    boost::property_tree::read_json(file, tree);
+    std::vector<double> stored;
+    for (const auto &[key, node] : tree.get_child("u"))
+      stored.push_back(node.get_value<double>());
+    AssertThrow(stored == u,
+                ExcInputError("--resume: <" + file +
+                              "> is of another point than the method asks "
+                              "for now (the optimisation's inputs changed): "
+                              "start again without --resume."));
+    evaluation.status    = tree.get<std::string>("status");
+    evaluation.reason    = tree.get<std::string>("reason");
+    evaluation.objective = tree.get<double>("objective");
+    for (const auto &[key, node] : tree.get_child("constraints"))
+      evaluation.constraints.push_back(node.get_value<double>());
+    evaluation.wall_time = tree.get<double>("wall_time_s");
+    evaluation.resumed   = true;
+    return true;
+  }
+
+  // optimisation.csv: every evaluation; optimisation.json: the best;
+  // best.prm: the best evaluation's parameter file with its own output
+  // directory (and best.msh, its mesh, with a mesh generator).
+  void
+  OptimisationProblem::write_results(const std::string &stop_reason) const
+  {
+    const Parameters::Optimisation &o       = parameters.optimisation;
+    const std::string              &out     = parameters.output.directory;
+    const bool                      testing = parameters.output.testing;
+    const unsigned int              b       = best();
+    const auto                      name    = [&](const unsigned int i) {
+      return directory(i).substr(out.size() + 1);
+    };
+    std::ostringstream csv;
+    csv << "evaluation,status";
+    for (const Variable &v : variables)
+      csv << "," << csv_field(v.input);
+    csv << "," << objective_key;
+    for (const Constraint &c : constraints)
+      csv << "," << c.key;
+    csv << ",feasible,best_objective" << (testing ? "" : ",wall_time_s")
+        << ",reason\n";
+    bool   any_feasible = false;
+    double best_so_far  = 0;
+    for (unsigned int i = 0; i < evaluations.size(); ++i)
+      {
+        const Evaluation &e    = evaluations[i];
+        const bool        done = e.status == "done";
+        csv << name(i) << "," << e.status;
+        for (const double x : e.x)
+          csv << "," << number(x);
+        csv << "," << (done ? number(e.objective) : "");
+        for (const double c : e.constraints)
+          csv << "," << (done ? number(c) : "");
+        const bool feasible = e.feasible(constraints);
+        if (feasible &&
+            (!any_feasible || (maximise ? e.objective > best_so_far :
+                                          e.objective < best_so_far)))
+          best_so_far = e.objective;
+        any_feasible = any_feasible || feasible;
+        csv << "," << (feasible ? 1 : 0) << ","
+            << (any_feasible ? number(best_so_far) : "");
+        if (!testing)
+          csv << "," << number(e.wall_time);
+        csv << "," << csv_field(e.reason) << "\n";
+      }
+    write_atomically(out + "/optimisation.csv", csv.str());
+
+    const Evaluation       &e = evaluations[b];
+    Output::Summary         json("optimisation.json");
+    Output::Summary::Record inputs;
+    for (unsigned int i = 0; i < variables.size(); ++i)
+      inputs.emplace_back(variables[i].input, e.x[i]);
+    unsigned int failed = 0;
+    for (const Evaluation &f : evaluations)
+      failed += f.status != "done";
+    json.set("problem", "optimisation");
+    json.set("method", o.method);
+    json.set("objective", o.objective);
+    json.set("constraints", o.constraints);
+    json.set("evaluations", static_cast<unsigned int>(evaluations.size()));
+    json.set("failed_evaluations", failed);
+    json.set("stop_reason", stop_reason);
+    json.set("feasible", e.feasible(constraints));
+    json.set("best_evaluation", name(b));
+    json.set("best_objective", e.objective);
+    json.set("best_inputs", inputs);
+    json.set("start_objective", evaluations[0].objective);
+    write_atomically(out + "/optimisation.json", json.to_json());
+
+    std::ostringstream prm;
+    prm << "# The best design of the optimisation <"
+        << parameters.parameter_file << ">: " << name(b) << " ("
+        << objective_key << " = " << number(e.objective)
+        << (e.feasible(constraints) ? "" : ", INFEASIBLE")
+        << "). tkr-wear best.prm runs it again.\ninclude "
+        << std::filesystem::absolute(directory(b) + "/case.prm").string()
+        << "\nsubsection Output\n  set Directory = " << out << "/best\nend\n";
+    write_atomically(out + "/best.prm", prm.str());
+    if (std::filesystem::exists(directory(b) + "/mesh.msh"))
+      std::filesystem::copy_file(
+        directory(b) + "/mesh.msh",
+        out + "/best.msh",
+        std::filesystem::copy_options::overwrite_existing);
+
+    std::cout << "Best: " << name(b) << ", " << objective_key << " = "
+              << number(e.objective) << " (start "
+              << number(evaluations[0].objective) << ")"
+              << (e.feasible(constraints) ? "" : ": NO FEASIBLE DESIGN FOUND")
+              << "; " << evaluations.size() << " evaluations (" << failed
+              << " failed), " << stop_reason << ". " << out
+              << "/best.prm runs it." << std::endl;
+  }
+} // namespace TKR::Problems
