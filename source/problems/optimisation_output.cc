@@ -14,7 +14,6 @@
 #include <boost/property_tree/json_parser.hpp>
 #include <boost/property_tree/ptree.hpp>
 
-#include <cstdio>
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
@@ -43,13 +42,6 @@ namespace TKR::Problems
       {"start_objective", "number", "-", {}, "the objective of the start (the base file's values), `eval-0000`"}});
     // clang-format on
 
-    std::string
-    number(const double value)
-    {
-      char buffer[64];
-      std::snprintf(buffer, sizeof(buffer), "%.12g", value);
-      return buffer;
-    }
   } // namespace
 
   // The evaluation's file: what --resume reads back.
@@ -128,10 +120,10 @@ namespace TKR::Problems
         const bool        done = e.status == "done";
         csv << name(i) << "," << e.status;
         for (const double x : e.x)
-          csv << "," << number(x);
-        csv << "," << (done ? number(e.objective) : "");
+          csv << "," << format_number(x, 12);
+        csv << "," << (done ? format_number(e.objective, 12) : "");
         for (const double c : e.constraints)
-          csv << "," << (done ? number(c) : "");
+          csv << "," << (done ? format_number(c, 12) : "");
         const bool feasible = e.feasible(constraints);
         if (feasible &&
             (!any_feasible || (maximise ? e.objective > best_so_far :
@@ -139,9 +131,9 @@ namespace TKR::Problems
           best_so_far = e.objective;
         any_feasible = any_feasible || feasible;
         csv << "," << (feasible ? 1 : 0) << ","
-            << (any_feasible ? number(best_so_far) : "");
+            << (any_feasible ? format_number(best_so_far, 12) : "");
         if (!testing)
-          csv << "," << number(e.wall_time);
+          csv << "," << format_number(e.wall_time, 12);
         csv << "," << csv_field(e.reason) << "\n";
       }
     write_atomically(out + "/optimisation.csv", csv.str());
@@ -171,7 +163,7 @@ namespace TKR::Problems
     std::ostringstream prm;
     prm << "# The best design of the optimisation <"
         << parameters.parameter_file << ">: " << name(b) << " ("
-        << objective_key << " = " << number(e.objective)
+        << objective_key << " = " << format_number(e.objective, 12)
         << (e.feasible(constraints) ? "" : ", INFEASIBLE")
         << "). tkr-wear best.prm runs it again.\ninclude "
         << std::filesystem::absolute(directory(b) + "/case.prm").string()
@@ -184,8 +176,8 @@ namespace TKR::Problems
         std::filesystem::copy_options::overwrite_existing);
 
     std::cout << "Best: " << name(b) << ", " << objective_key << " = "
-              << number(e.objective) << " (start "
-              << number(evaluations[0].objective) << ")"
+              << format_number(e.objective, 12) << " (start "
+              << format_number(evaluations[0].objective, 12) << ")"
               << (e.feasible(constraints) ? "" : ": NO FEASIBLE DESIGN FOUND")
               << "; " << evaluations.size() << " evaluations (" << failed
               << " failed), " << stop_reason << ". " << out

@@ -28,15 +28,6 @@ namespace TKR::Problems
 
   namespace
   {
-    /** A number as a parameter file and the tables write it. */
-    std::string
-    number_text(const double value, const int digits = 12)
-    {
-      char buffer[64];
-      std::snprintf(buffer, sizeof(buffer), "%.*g", digits, value);
-      return buffer;
-    }
-
     double
     parse_number(const std::string &text, const std::string &what)
     {
@@ -232,11 +223,17 @@ namespace TKR::Problems
   }
 
   std::string
+  OptimisationProblem::name(const unsigned int index) const
+  {
+    char text[32];
+    std::snprintf(text, sizeof(text), "eval-%04u", index);
+    return text;
+  }
+
+  std::string
   OptimisationProblem::directory(const unsigned int index) const
   {
-    char name[32];
-    std::snprintf(name, sizeof(name), "/eval-%04u", index);
-    return parameters.output.directory + name;
+    return parameters.output.directory + "/" + name(index);
   }
 
   std::map<std::string, double>
@@ -263,7 +260,7 @@ namespace TKR::Problems
       {
         e.x.push_back(variables[i].value(u[i]));
         set_case_input(variables[i].input,
-                       number_text(e.x[i]),
+                       format_number(e.x[i], 12),
                        runner.base(),
                        "Optimisation",
                        "Variables",
@@ -356,18 +353,17 @@ namespace TKR::Problems
     if (is_root)
       {
         std::ostringstream line;
-        line << directory(index).substr(parameters.output.directory.size() + 1)
-             << ":";
+        line << name(index) << ":";
         for (unsigned int i = 0; i < variables.size(); ++i)
           line << (i ? "," : "") << " " << variables[i].input << " = "
-               << number_text(e.x[i], 6);
+               << format_number(e.x[i], 6);
         if (e.status == "done")
           {
             line << " -> " << objective_key << " = "
-                 << number_text(e.objective, 6);
+                 << format_number(e.objective, 6);
             for (unsigned int c = 0; c < constraints.size(); ++c)
               line << ", " << constraints[c].key << " = "
-                   << number_text(e.constraints[c], 6);
+                   << format_number(e.constraints[c], 6);
             line << (e.feasible(constraints) ? "" : " (infeasible)");
           }
         else

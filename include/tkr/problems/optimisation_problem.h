@@ -131,6 +131,9 @@ namespace TKR::Problems
     unsigned int
     best() const;
 
+    /** Evaluation @p index's name, `eval-NNNN`, and its directory. */
+    std::string
+    name(const unsigned int index) const;
     std::string
     directory(const unsigned int index) const;
 
