@@ -75,6 +75,65 @@ namespace TKR::Parameters
                         "The generator's fixed arguments, e.g. --variant a "
                         "--resolution coarse.");
       prm.declare_entry(
+        "Initial design",
+        "0",
+        Patterns::Integer(0),
+        "Points of a Latin hypercube over the variables' bounds (in unit "
+        "coordinates, the log ones in the logarithm) evaluated with the "
+        "start before the method, in parallel over groups of Ranks per "
+        "evaluation ranks; the method starts from the best of them. 0: the "
+        "method starts from the start.");
+      prm.declare_entry("Seed",
+                        "2026",
+                        Patterns::Integer(0),
+                        "The seed of the initial design's random numbers "
+                        "(std::mt19937_64, as a study's).");
+      prm.declare_entry("Ranks per evaluation",
+                        "1",
+                        Patterns::Integer(0),
+                        "Runs that can go at once (the initial design, the "
+                        "scenarios of an evaluation, the verification) go "
+                        "on groups of this many ranks (their step groups); "
+                        "a run alone takes all ranks. 0: all ranks for "
+                        "every run.");
+      prm.declare_entry(
+        "Scenarios",
+        "",
+        Patterns::Anything(),
+        "Several designs or activities at once: NAME: WEIGHT: FILE, "
+        "separated by ';', FILE a parameter file included after the base "
+        "file (after the mesh generator's mesh.prm) in the scenario's run "
+        "(e.g. another activity mix, load or size). Each evaluation runs "
+        "every scenario, in eval-NNNN/NAME; the objective is combined by "
+        "Combine scenarios, a constraint holds if it holds in every "
+        "scenario. Empty: the base file alone.");
+      prm.declare_entry("Combine scenarios",
+                        "weighted sum",
+                        Patterns::Selection("weighted sum|worst case"),
+                        "The objective of an evaluation with Scenarios: the "
+                        "sum of the scenarios' objectives times their "
+                        "weights, or the worst of them (the largest to "
+                        "minimise, the smallest to maximise; weights "
+                        "unused).");
+      prm.declare_entry(
+        "Verification mesh generator arguments",
+        "",
+        Patterns::Anything(),
+        "With a Mesh generator: its fixed arguments for the verification "
+        "(e.g. --variant a --resolution medium, the next finer mesh). The "
+        "start and the best design run again with them (and the "
+        "Verification entries) in verify-start and verify-best, and both "
+        "numbers are reported. Empty (and no Verification entries): no "
+        "verification.");
+      prm.declare_entry(
+        "Verification entries",
+        "",
+        Patterns::Anything(),
+        "Entries set in the verification runs, PATH = VALUE separated by "
+        "';' (e.g. Mesh/File = tkr-a-medium.msh without a mesh generator). "
+        "Empty (and no Verification mesh generator arguments): no "
+        "verification.");
+      prm.declare_entry(
         "Test function",
         "none",
         Patterns::Selection("none|quadratic"),
@@ -103,6 +162,14 @@ namespace TKR::Parameters
       mesh_generator           = prm.get("Mesh generator");
       mesh_generator_arguments = prm.get("Mesh generator arguments");
       test_function            = prm.get("Test function");
+      initial_design           = prm.get_integer("Initial design");
+      seed                     = prm.get_integer("Seed");
+      ranks_per_evaluation     = prm.get_integer("Ranks per evaluation");
+      scenarios                = prm.get("Scenarios");
+      combine_scenarios        = prm.get("Combine scenarios");
+      verification_generator_arguments =
+        prm.get("Verification mesh generator arguments");
+      verification_entries = prm.get("Verification entries");
     }
     prm.leave_subsection();
   }

@@ -416,10 +416,12 @@ namespace TKR::Parameters
         "Calibration/Designs",
         Calibration::resolve_designs(get_entry(prm, "Calibration/Designs"),
                                      text.directory_of("Calibration/Designs")));
-      set_entry(prm,
-                "Gait/Activities",
-                Activity::resolve_files(get_entry(prm, "Gait/Activities"),
-                                        text.directory_of("Gait/Activities")));
+      for (const std::string entry :
+           {"Gait/Activities", "Optimisation/Scenarios"})
+        set_entry(prm,
+                  entry,
+                  Activity::resolve_files(get_entry(prm, entry),
+                                          text.directory_of(entry)));
     }
   } // namespace internal
 

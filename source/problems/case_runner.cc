@@ -76,17 +76,19 @@ namespace TKR::Problems
   void
   CaseRunner::write_parameter_file(const std::string                 &directory,
                                    std::map<std::string, std::string> entries,
-                                   const std::string &comment) const
+                                   const std::string                 &comment,
+                                   const std::string &include) const
   {
     std::filesystem::create_directories(directory);
     entries["Output/Directory"] = directory;
-    write_atomically(directory + "/case.prm",
-                     case_parameter_text(base_file,
-                                         generator.empty() ?
-                                           std::vector<std::string>() :
-                                           std::vector<std::string>{"mesh.prm"},
-                                         entries,
-                                         comment));
+    std::vector<std::string> includes;
+    if (!generator.empty())
+      includes.push_back("mesh.prm");
+    if (!include.empty())
+      includes.push_back(include);
+    write_atomically(
+      directory + "/case.prm",
+      case_parameter_text(base_file, includes, entries, comment));
   }
 
   // The mesh (on the group's rank 0; its error on every rank of the group),
@@ -129,8 +131,9 @@ namespace TKR::Problems
                   const StepGroups                         &group,
                   const std::string                        &label) const
   {
-    Outcome    outcome;
-    CaseOutput output(directory + "/log.txt", group.is_group_root);
+    Outcome      outcome;
+    const double start = MPI_Wtime();
+    CaseOutput   output(directory + "/log.txt", group.is_group_root);
     try
       {
         make_mesh(directory, entries, group);
@@ -173,6 +176,7 @@ namespace TKR::Problems
       outcome.reason += (outcome.reason.empty() ? "" : " ") + word;
     if (!outcome.reason.empty())
       std::cout << label << ": " << outcome.reason << std::endl;
+    outcome.wall_time = MPI_Wtime() - start;
     return outcome;
   }
 } // namespace TKR::Problems

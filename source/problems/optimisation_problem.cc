@@ -8,6 +8,7 @@
 #include <tkr/base/exceptions.h>
 #include <tkr/base/result_schema.h>
 #include <tkr/output/summary.h>
+#include <tkr/output/wear_output.h>
 #include <tkr/problems/optimisation_problem.h>
 #include <tkr/problems/study_cases.h>
 
@@ -102,18 +103,29 @@ namespace TKR::Problems
              resume,
              mpi_communicator)
   {
-    const Parameters::Optimisation &o     = parameters.optimisation;
-    const auto                      place = [&](const std::string &entry) {
-      const auto it = parameters.places.find("Optimisation/" + entry);
-      return "Optimisation/" + entry + " (" +
-             (it == parameters.places.end() ? parameters.parameter_file :
-                                                                   it->second) +
-             ")";
-    };
-    const bool testing = (o.test_function != "none");
+    parse_variables();
+    parse_results();
+    parse_scenarios();
+    parse_verification();
+  }
 
-    // The variables: PATH = LOWER .. UPPER [log].
-    static const std::regex variable(
+  std::string
+  OptimisationProblem::place(const std::string &entry) const
+  {
+    const auto it = parameters.places.find("Optimisation/" + entry);
+    return "Optimisation/" + entry + " (" +
+           (it == parameters.places.end() ? parameters.parameter_file :
+                                            it->second) +
+           ")";
+  }
+
+  // PATH = LOWER .. UPPER [log], each path an entry of the base file whose
+  // value (the start) lies within the bounds.
+  void
+  OptimisationProblem::parse_variables()
+  {
+    const Parameters::Optimisation &o = parameters.optimisation;
+    static const std::regex         variable(
       R"(^\s*(\S.*?)\s*=\s*(\S+)\s*\.\.\s*(\S+?)\s*(log)?\s*$)");
     static const std::regex component(R"(^(.*)\[([0-9]+)\]$)");
     for (const std::string &item :
@@ -169,24 +181,29 @@ namespace TKR::Problems
                 ExcInputError(place("Variables") +
                               ": Problem = optimisation needs at least one "
                               "variable (PATH = LOWER .. UPPER)."));
+  }
 
-    // A key of the results: a number of summary.json (or of the test
-    // function).
-    const auto check_key = [&](const std::string &key,
+  // The objective and the constraints: keys of the results, numbers of
+  // summary.json (or of the test function).
+  void
+  OptimisationProblem::parse_results()
+  {
+    const Parameters::Optimisation &o         = parameters.optimisation;
+    const auto                      check_key = [&](const std::string &key,
                                const std::string &where) {
-      if (testing)
+      if (testing())
         AssertThrow(std::find(test_keys.begin(), test_keys.end(), key) !=
                       test_keys.end(),
                     ExcInputError(where + ": <" + key +
                                   "> is not a result of the test function "
-                                  "(mass_loss_mg, max_pressure_MPa)."));
+                                                       "(mass_loss_mg, max_pressure_MPa)."));
       const ResultField *field = ResultSchema::find("summary.json", key);
       AssertThrow(field != nullptr &&
                     (field->type == "number" || field->type == "integer"),
                   ExcInputError(where + ": <" + key +
                                 "> is not a number of summary.json (its "
-                                "keys: doc/output.md, tkr-wear "
-                                "--print-schema)."));
+                                                     "keys: doc/output.md, tkr-wear "
+                                                     "--print-schema)."));
     };
 
     // The objective: minimise KEY or maximise KEY.
@@ -222,6 +239,99 @@ namespace TKR::Problems
                               "cobyla."));
   }
 
+  // The initial design's size; the scenarios: NAME: WEIGHT: FILE.
+  void
+  OptimisationProblem::parse_scenarios()
+  {
+    const Parameters::Optimisation &o = parameters.optimisation;
+    AssertThrow(o.initial_design + 1 < o.maximum_evaluations,
+                ExcInputError(place("Initial design") + " = " +
+                              std::to_string(o.initial_design) +
+                              ": the start and the initial design leave no "
+                              "evaluation of Maximum evaluations = " +
+                              std::to_string(o.maximum_evaluations) +
+                              " to the method."));
+
+    // The scenarios: NAME: WEIGHT: FILE.
+    for (const std::string &item :
+         Utilities::split_string_list(o.scenarios, ';'))
+      {
+        const std::vector<std::string> parts =
+          Utilities::split_string_list(item, ':');
+        AssertThrow(parts.size() == 3,
+                    ExcInputError(place("Scenarios") + ": <" + item +
+                                  "> is not NAME: WEIGHT: FILE."));
+        Scenario s{parts[0],
+                   std::filesystem::absolute(parts[2]).string(),
+                   parse_number(parts[1],
+                                place("Scenarios") + ": " + parts[0])};
+        AssertThrow(std::regex_match(s.name, std::regex("[A-Za-z0-9_.-]+")) &&
+                      s.name.rfind("eval-", 0) != 0,
+                    ExcInputError(place("Scenarios") + ": <" + s.name +
+                                  "> is not a name for a directory (letters, "
+                                  "digits, _ . -; not eval-...)."));
+        AssertThrow(s.weight >= 0,
+                    ExcInputError(place("Scenarios") + ": " + s.name +
+                                  ": a negative weight."));
+        AssertThrow(std::filesystem::exists(s.file),
+                    ExcInputError(place("Scenarios") + ": " + s.name +
+                                  ": the file <" + s.file +
+                                  "> does not exist."));
+        for (const Scenario &other : scenarios)
+          AssertThrow(other.name != s.name,
+                      ExcInputError(place("Scenarios") + ": the name <" +
+                                    s.name + "> is used twice."));
+        scenarios.push_back(s);
+      }
+    AssertThrow(!testing() || scenarios.empty(),
+                ExcInputError(place("Scenarios") +
+                              ": the test function replaces the runs; it "
+                              "takes no scenarios."));
+  }
+
+  // The verification: its generator arguments and entries (checked
+  // against the base file).
+  void
+  OptimisationProblem::parse_verification()
+  {
+    const Parameters::Optimisation &o = parameters.optimisation;
+    static const std::regex         setting(R"(^\s*(\S.*?)\s*=\s*(\S.*?)\s*$)");
+    std::smatch                     match;
+    for (const std::string &item :
+         Utilities::split_string_list(o.verification_entries, ';'))
+      {
+        AssertThrow(std::regex_match(item, match, setting),
+                    ExcInputError(place("Verification entries") + ": <" + item +
+                                  "> is not PATH = VALUE."));
+        StudyCase check;
+        check.name = "the verification";
+        set_case_input(match[1].str(),
+                       match[2].str(),
+                       runner.base(),
+                       "Optimisation",
+                       place("Verification entries"),
+                       check);
+        verification_entries[match[1].str()] = match[2].str();
+      }
+    AssertThrow(o.verification_generator_arguments.empty() ||
+                  !o.mesh_generator.empty(),
+                ExcInputError(place("Verification mesh generator arguments") +
+                              ": there is no Mesh generator (without one, "
+                              "set the verification's Mesh/File in "
+                              "Verification entries)."));
+    if (!testing() && (!o.verification_generator_arguments.empty() ||
+                       !verification_entries.empty()))
+      verification_runner = std::make_unique<CaseRunner>(
+        "Optimisation",
+        o.base_file,
+        o.mesh_generator,
+        o.verification_generator_arguments.empty() ?
+          o.mesh_generator_arguments :
+          o.verification_generator_arguments,
+        resume,
+        mpi_communicator);
+  }
+
   std::string
   OptimisationProblem::name(const unsigned int index) const
   {
@@ -243,140 +353,6 @@ namespace TKR::Problems
     for (const double t : u)
       sum += (t - 0.3) * (t - 0.3);
     return {{"mass_loss_mg", 1 + sum}, {"max_pressure_MPa", 10 + 20 * u[0]}};
-  }
-
-  // A wear run of the base file with the variables at u (or the test
-  // function): its objective and constraint results, or its failure.
-  OptimisationProblem::Evaluation
-  OptimisationProblem::run_evaluation(const unsigned int         index,
-                                      const std::vector<double> &u)
-  {
-    Evaluation e;
-    e.u = u;
-    StudyCase inputs;
-    inputs.name =
-      directory(index).substr(parameters.output.directory.size() + 1);
-    for (unsigned int i = 0; i < variables.size(); ++i)
-      {
-        e.x.push_back(variables[i].value(u[i]));
-        set_case_input(variables[i].input,
-                       format_number(e.x[i], 12),
-                       runner.base(),
-                       "Optimisation",
-                       "Variables",
-                       inputs);
-      }
-    bool        found = false;
-    std::string error;
-    if (is_root && resume)
-      try
-        {
-          found = read_evaluation(index, u, e);
-        }
-      catch (const ExcInputError &exc)
-        {
-          error = exception_message(exc);
-        }
-    error = Utilities::MPI::broadcast(mpi_communicator, error, 0);
-    AssertThrow(error.empty(), ExcInputError(error));
-    if (Utilities::MPI::broadcast(mpi_communicator, found, 0))
-      {
-        e = Utilities::MPI::broadcast(mpi_communicator, e, 0);
-        return e;
-      }
-
-    const double start = MPI_Wtime();
-    on_root(
-      [&]() {
-        runner.write_parameter_file(directory(index),
-                                    inputs.entries,
-                                    inputs.name + " of the optimisation <" +
-                                      parameters.parameter_file +
-                                      ">: tkr-wear case.prm repeats it alone.");
-      },
-      mpi_communicator);
-    std::map<std::string, double> results;
-    if (parameters.optimisation.test_function != "none")
-      results = test_results(u);
-    else
-      {
-        const StepGroups          group(mpi_communicator, 1);
-        const CaseRunner::Outcome outcome =
-          runner.run(directory(index), inputs.entries, group, inputs.name);
-        AssertThrow(outcome.status != "stopped",
-                    ExcStopped(outcome.reason + " (" + inputs.name +
-                               "): tkr-wear --resume " +
-                               parameters.parameter_file +
-                               " continues the optimisation."));
-        e.status = outcome.status;
-        e.reason = outcome.reason;
-        results.insert(outcome.results.begin(), outcome.results.end());
-      }
-    const auto result = [&](const std::string &key) {
-      const auto it = results.find(key);
-      if (it != results.end())
-        return it->second;
-      if (e.status == "done")
-        {
-          e.status = "failed";
-          e.reason = "the run wrote no result " + key;
-        }
-      return 0.;
-    };
-    e.objective = result(objective_key);
-    for (const Constraint &c : constraints)
-      e.constraints.push_back(result(c.key));
-    e.wall_time = MPI_Wtime() - start;
-    // Rank 0's values on every rank: the method takes the same path.
-    e = Utilities::MPI::broadcast(mpi_communicator, e, 0);
-    if (is_root)
-      write_evaluation(index, e);
-    return e;
-  }
-
-  unsigned int
-  OptimisationProblem::evaluate(const std::vector<double> &u)
-  {
-    for (unsigned int i = evaluations.size(); i-- > 0;)
-      if (evaluations[i].u == u)
-        return i;
-    const int signal = stop_requested(mpi_communicator);
-    AssertThrow(signal == 0,
-                ExcStopped("Stopped by " + signal_name(signal) +
-                           ": the evaluations done are kept; tkr-wear "
-                           "--resume " +
-                           parameters.parameter_file +
-                           " continues the optimisation."));
-    const unsigned int index = evaluations.size();
-    evaluations.push_back(run_evaluation(index, u));
-    const Evaluation &e = evaluations[index];
-    if (is_root)
-      {
-        std::ostringstream line;
-        line << name(index) << ":";
-        for (unsigned int i = 0; i < variables.size(); ++i)
-          line << (i ? "," : "") << " " << variables[i].input << " = "
-               << format_number(e.x[i], 6);
-        if (e.status == "done")
-          {
-            line << " -> " << objective_key << " = "
-                 << format_number(e.objective, 6);
-            for (unsigned int c = 0; c < constraints.size(); ++c)
-              line << ", " << constraints[c].key << " = "
-                   << format_number(e.constraints[c], 6);
-            line << (e.feasible(constraints) ? "" : " (infeasible)");
-          }
-        else
-          line << " -> FAILED: " << e.reason;
-        if (e.resumed)
-          line << " (read back)";
-        std::cout << line.str() << std::endl;
-      }
-    AssertThrow(index > 0 || e.status == "done",
-                ExcInputError("The start of the optimisation (the base "
-                              "file's values, " +
-                              directory(0) + ") failed: " + e.reason));
-    return index;
   }
 
   // The method minimises: a done evaluation's objective (negated to
@@ -466,87 +442,135 @@ namespace TKR::Problems
       }
   }
 
-  bool
-  OptimisationProblem::run()
+  void
+  OptimisationProblem::announce() const
   {
     const Parameters::Optimisation &o = parameters.optimisation;
+    if (!is_root)
+      return;
+    // Without --resume, the evaluations of an earlier run go.
+    std::filesystem::create_directories(parameters.output.directory);
+    if (!resume)
+      for (const auto &entry :
+           std::filesystem::directory_iterator(parameters.output.directory))
+        if (entry.path().filename().string().rfind("eval-", 0) == 0 ||
+            entry.path().filename().string().rfind("verify-", 0) == 0)
+          std::filesystem::remove_all(entry.path());
+    std::cout << "Optimisation <" << parameters.parameter_file
+              << ">: " << o.objective << " of <"
+              << std::filesystem::path(o.base_file).filename().string() << ">, "
+              << variables.size() << " variable(s), " << constraints.size()
+              << " constraint(s), " << o.method << " (NLopt), at most "
+              << o.maximum_evaluations << " evaluations"
+              << (o.test_function != "none" ?
+                    ", test function " + o.test_function :
+                    std::string())
+              << (resume ? ", resumed" : "") << std::endl;
+  }
+
+  // The start (the base file's values), or with an initial design the best
+  // of the start and the Latin hypercube, evaluated at once.
+  std::vector<double>
+  OptimisationProblem::start_point()
+  {
+    const Parameters::Optimisation &o = parameters.optimisation;
+    const unsigned int              n = variables.size();
+    std::vector<double>             u(n);
+    for (unsigned int i = 0; i < n; ++i)
+      u[i] = std::clamp(variables[i].unit(variables[i].start), 0., 1.);
+    if (o.initial_design == 0)
+      return u;
     if (is_root)
-      {
-        // Without --resume, the evaluations of an earlier run go.
-        std::filesystem::create_directories(parameters.output.directory);
-        if (!resume)
-          for (const auto &entry :
-               std::filesystem::directory_iterator(parameters.output.directory))
-            if (entry.path().filename().string().rfind("eval-", 0) == 0)
-              std::filesystem::remove_all(entry.path());
-        std::cout << "Optimisation <" << parameters.parameter_file
-                  << ">: " << o.objective << " of <"
-                  << std::filesystem::path(o.base_file).filename().string()
-                  << ">, " << variables.size() << " variable(s), "
-                  << constraints.size() << " constraint(s), " << o.method
-                  << " (NLopt), at most " << o.maximum_evaluations
-                  << " evaluations"
-                  << (o.test_function != "none" ?
-                        ", test function " + o.test_function :
-                        std::string())
-                  << (resume ? ", resumed" : "") << std::endl;
-      }
-    const unsigned int n = variables.size();
-    nlopt::opt         method(o.method == "cobyla" ? nlopt::LN_COBYLA :
+      std::cout << "Initial design: the start and " << o.initial_design
+                << " points of a Latin hypercube (seed " << o.seed << ")"
+                << std::endl;
+    std::vector<std::vector<double>> points = {u};
+    for (const std::vector<double> &p :
+         unit_samples(o.initial_design, n, o.seed, true))
+      points.push_back(p);
+    evaluate_batch(points);
+    return evaluations[best()].u;
+  }
+
+  // NLopt from @p u; its first point, if evaluated already, is read from
+  // the table (and counts against Maximum evaluations once).
+  std::string
+  OptimisationProblem::run_method(std::vector<double> u)
+  {
+    const Parameters::Optimisation &o = parameters.optimisation;
+    const unsigned int              n = variables.size();
+    nlopt::opt method(o.method == "cobyla" ? nlopt::LN_COBYLA :
                                              nlopt::LN_BOBYQA,
                       n);
     method.set_lower_bounds(std::vector<double>(n, 0.));
     method.set_upper_bounds(std::vector<double>(n, 1.));
     method.set_initial_step(std::vector<double>(n, o.initial_step));
     method.set_xtol_abs(o.tolerance);
-    method.set_maxeval(o.maximum_evaluations);
+    method.set_maxeval(o.maximum_evaluations + 1 -
+                       std::max<std::size_t>(1, evaluations.size()));
     method.set_min_objective(objective_callback, this);
     constraint_data.clear();
     for (unsigned int c = 0; c < constraints.size(); ++c)
       constraint_data.emplace_back(this, c);
     for (auto &data : constraint_data)
       method.add_inequality_constraint(constraint_callback, &data, 0.);
-
-    std::vector<double> u(n);
-    for (unsigned int i = 0; i < n; ++i)
-      u[i] = std::clamp(variables[i].unit(variables[i].start), 0., 1.);
-    double      minimum = 0;
-    std::string stop_reason;
+    double minimum = 0;
     try
       {
         switch (method.optimize(u, minimum))
           {
             case nlopt::XTOL_REACHED:
-              stop_reason = "the variables changed by less than Tolerance";
-              break;
+              return "the variables changed by less than Tolerance";
             case nlopt::FTOL_REACHED:
-              stop_reason = "the objective changed by less than its tolerance";
-              break;
+              return "the objective changed by less than its tolerance";
             case nlopt::MAXEVAL_REACHED:
-              stop_reason = "Maximum evaluations reached";
-              break;
+              return "Maximum evaluations reached";
             default:
-              stop_reason = "converged";
+              return "converged";
           }
       }
     catch (const nlopt::forced_stop &)
       {
         AssertThrow(pending, ExcInternalError());
+        std::rethrow_exception(pending);
       }
     catch (const nlopt::roundoff_limited &)
       {
-        stop_reason = "rounding errors limit the progress";
+        return "rounding errors limit the progress";
       }
-    if (pending)
+  }
+
+  bool
+  OptimisationProblem::run()
+  {
+    announce();
+    std::string stop_reason;
+    try
+      {
+        stop_reason = run_method(start_point());
+      }
+    catch (...)
       {
         // The evaluations so far are in the table; the error (or the stop)
         // goes on.
-        if (is_root)
+        if (is_root && !evaluations.empty())
           write_results("stopped by an error or a signal");
-        std::rethrow_exception(pending);
+        throw;
       }
+    verify();
     if (is_root)
       write_results(stop_reason);
+    if (parameters.output.plots)
+      {
+        const std::string error =
+          Output::run_script("plot-optimisation",
+                             {parameters.output.directory},
+                             parameters.output.directory +
+                               "/plot-optimisation.log",
+                             mpi_communicator);
+        if (is_root && !error.empty())
+          std::cout << "Warning: " << error << std::endl;
+      }
     return evaluations[best()].feasible(constraints);
   }
 } // namespace TKR::Problems

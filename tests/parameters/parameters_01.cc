@@ -358,6 +358,44 @@ namespace
                               [](const P &p) {
                                 return p.optimisation.test_function;
                               }},
+                             {"Optimisation/Initial design",
+                              "6",
+                              [](const P &p) {
+                                return num(p.optimisation.initial_design);
+                              }},
+                             {"Optimisation/Seed",
+                              "7",
+                              [](const P &p) {
+                                return num(p.optimisation.seed);
+                              }},
+                             {"Optimisation/Ranks per evaluation",
+                              "2",
+                              [](const P &p) {
+                                return num(
+                                  p.optimisation.ranks_per_evaluation);
+                              }},
+                             {"Optimisation/Scenarios",
+                              "walk: 0.5: " + source + "/prm/one-cycle.prm",
+                              [](const P &p) {
+                                return p.optimisation.scenarios;
+                              }},
+                             {"Optimisation/Combine scenarios",
+                              "worst case",
+                              [](const P &p) {
+                                return p.optimisation.combine_scenarios;
+                              }},
+                             {"Optimisation/Verification mesh generator "
+                              "arguments",
+                              "--variant b --resolution medium",
+                              [](const P &p) {
+                                return p.optimisation
+                                  .verification_generator_arguments;
+                              }},
+                             {"Optimisation/Verification entries",
+                              "Gait/Steps per cycle = 50",
+                              [](const P &p) {
+                                return p.optimisation.verification_entries;
+                              }},
                              {"Gait/Flexion axis point",
                               "1, -3, 50",
                               [](const P &p) {

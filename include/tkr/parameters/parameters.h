@@ -501,6 +501,16 @@ namespace TKR::Parameters
     std::string mesh_generator, mesh_generator_arguments;
     /** `none` (wear runs) or `quadratic` (a known function, for tests). */
     std::string test_function;
+    /** Latin hypercube points before the method, and their seed. */
+    unsigned int initial_design, seed;
+    /** The size of the rank groups of runs that go at once (0: all). */
+    unsigned int ranks_per_evaluation;
+    /** `NAME: WEIGHT: FILE` separated by `;` (files resolved). */
+    std::string scenarios;
+    /** `weighted sum` or `worst case`. */
+    std::string combine_scenarios;
+    /** The verification's generator arguments and entries. */
+    std::string verification_generator_arguments, verification_entries;
 
     static void
     declare_parameters(dealii::ParameterHandler &prm);

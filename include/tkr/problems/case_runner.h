@@ -7,6 +7,10 @@
 #include <tkr/base/mpi.h>
 #include <tkr/parameters/parameters.h>
 
+#include <boost/serialization/string.hpp>
+#include <boost/serialization/utility.hpp>
+#include <boost/serialization/vector.hpp>
+
 #include <map>
 #include <string>
 #include <utility>
@@ -33,6 +37,15 @@ namespace TKR::Problems
       std::string                                 status  = "done", reason;
       bool                                        resumed = false;
       std::vector<std::pair<std::string, double>> results;
+      /** Seconds of the run. */
+      double wall_time = 0;
+
+      template <class Archive>
+      void
+      serialize(Archive &archive, const unsigned int)
+      {
+        archive &status &reason &resumed &results &wall_time;
+      }
     };
 
     /**
@@ -64,13 +77,15 @@ namespace TKR::Problems
 
     /**
      * Write @p directory/case.prm: the base file, the mesh generator's
-     * mesh.prm if there is one, then @p entries (with Output/Directory =
-     * @p directory) and @p comment at the top. Call on one rank.
+     * mesh.prm if there is one, the file @p include if not empty, then
+     * @p entries (with Output/Directory = @p directory) and @p comment at
+     * the top. Call on one rank.
      */
     void
     write_parameter_file(const std::string                 &directory,
                          std::map<std::string, std::string> entries,
-                         const std::string                 &comment) const;
+                         const std::string                 &comment,
+                         const std::string                 &include = "") const;
 
     /**
      * The mesh (if there is a generator) and the wear run of
