@@ -199,7 +199,19 @@ namespace TKR::Problems
     for (const std::vector<double> &u : points)
       indices.push_back(add_evaluation(u, fresh, runs));
 
-    const std::vector<CaseRunner::Outcome> outcomes = run_all(runner, runs);
+    std::vector<CaseRunner::Outcome> outcomes;
+    try
+      {
+        outcomes = run_all(runner, runs);
+      }
+    catch (...)
+      {
+        // A stop (or an error): the new evaluations are not evaluations
+        // yet (their runs' checkpoints are; --resume continues them).
+        if (!fresh.empty())
+          evaluations.resize(fresh.front());
+        throw;
+      }
     const unsigned int n_runs = std::max<std::size_t>(1, scenarios.size());
     auto               next   = outcomes.begin();
     for (const unsigned int index : fresh)
@@ -348,8 +360,16 @@ namespace TKR::Problems
                       "" :
                       " with " + o.verification_entries)
                 << std::endl;
-    const std::vector<CaseRunner::Outcome> outcomes =
-      run_all(*verification_runner, runs);
+    std::vector<CaseRunner::Outcome> outcomes;
+    try
+      {
+        outcomes = run_all(*verification_runner, runs);
+      }
+    catch (...)
+      {
+        verification.clear();
+        throw;
+      }
     const unsigned int n_runs = runs.size() / which.size();
     for (unsigned int k = 0; k < which.size(); ++k)
       {
@@ -361,6 +381,9 @@ namespace TKR::Problems
           std::cout << evaluation_line(labels[k], verification[k]) << std::endl;
       }
     if (b == 0)
-      verification.push_back(verification[0]);
+      {
+        const Evaluation start = verification[0];
+        verification.push_back(start);
+      }
   }
 } // namespace TKR::Problems

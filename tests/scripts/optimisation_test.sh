@@ -164,6 +164,23 @@ check "parallel: the verification ran with 24 steps per cycle" \
 check "parallel: optimisation.json as doc/output.md says" \
   "$python" "$results" check parallel/optimisation.json
 check "parallel: the plots" test -s parallel/optimisation_convergence.png -a -s parallel/optimisation_wear_maps.png
+# Stopped (SIGTERM to the ranks) during the initial design's runs: exit 3,
+# the table so far written, and --resume ends where the whole run ends.
+sed -e 's/Directory = parallel/Directory = stopped/' -e 's|= base.prm|= '"$data"'/base.prm|' \
+  -e 's|: light.prm|: '"$data"'/light.prm|' -e 's|: heavy.prm|: '"$data"'/heavy.prm|' \
+  "$data/parallel.prm" > stopped.prm
+$mpiexec -np 2 "$exe" stopped.prm > stopped.log 2>&1 &
+pid=$!
+for _ in $(seq 600); do grep -q "Degrees of freedom" stopped/eval-0000/light/log.txt 2>/dev/null && break; sleep 0.1; done
+pkill -TERM -P $pid -x tkr-wear
+wait $pid
+check "stopped during the initial design: exit 3" test $? -eq 3
+check "... the message" grep -q "Stopped by SIGTERM.*tkr-wear --resume stopped.prm continues the optimisation" stopped.log
+$mpiexec -np 2 "$exe" --resume stopped.prm > stopped-resume.log 2>&1
+check "... resumed: exit 0" test $? -eq 0
+check "... the whole run's optimum" \
+  cmp <(grep -v '"stop_reason"' parallel/optimisation.json) <(grep -v '"stop_reason"' stopped/optimisation.json)
+
 sed -e 's/Initial design *= 3/Initial design = 1/' -e 's/Maximum evaluations *= 6/Maximum evaluations = 3/' \
   -e 's/^  set Verification.*$/  set Combine scenarios = worst case/' -e 's/Directory = parallel/Directory = worst/' \
   -e 's|= base.prm|= '"$data"'/base.prm|' -e 's|: light.prm|: '"$data"'/light.prm|' \
