@@ -183,28 +183,32 @@ namespace TKR::Problems
                               "variable (PATH = LOWER .. UPPER)."));
   }
 
-  // The objective and the constraints: keys of the results, numbers of
-  // summary.json (or of the test function).
+  // A key of the results: a number of summary.json (or of the test
+  // function).
+  void
+  OptimisationProblem::check_result_key(const std::string &key,
+                                        const std::string &where) const
+  {
+    if (testing())
+      AssertThrow(std::find(test_keys.begin(), test_keys.end(), key) !=
+                    test_keys.end(),
+                  ExcInputError(where + ": <" + key +
+                                "> is not a result of the test function "
+                                "(mass_loss_mg, max_pressure_MPa)."));
+    const ResultField *field = ResultSchema::find("summary.json", key);
+    AssertThrow(field != nullptr &&
+                  (field->type == "number" || field->type == "integer"),
+                ExcInputError(where + ": <" + key +
+                              "> is not a number of summary.json (its "
+                              "keys: doc/output.md, tkr-wear "
+                              "--print-schema)."));
+  }
+
+  // The objective and the constraints: keys of the results.
   void
   OptimisationProblem::parse_results()
   {
-    const Parameters::Optimisation &o         = parameters.optimisation;
-    const auto                      check_key = [&](const std::string &key,
-                               const std::string &where) {
-      if (testing())
-        AssertThrow(std::find(test_keys.begin(), test_keys.end(), key) !=
-                      test_keys.end(),
-                    ExcInputError(where + ": <" + key +
-                                  "> is not a result of the test function "
-                                                       "(mass_loss_mg, max_pressure_MPa)."));
-      const ResultField *field = ResultSchema::find("summary.json", key);
-      AssertThrow(field != nullptr &&
-                    (field->type == "number" || field->type == "integer"),
-                  ExcInputError(where + ": <" + key +
-                                "> is not a number of summary.json (its "
-                                                     "keys: doc/output.md, tkr-wear "
-                                                     "--print-schema)."));
-    };
+    const Parameters::Optimisation &o = parameters.optimisation;
 
     // The objective: minimise KEY or maximise KEY.
     static const std::regex objective(
@@ -215,7 +219,7 @@ namespace TKR::Problems
                               "> is not minimise KEY or maximise KEY."));
     maximise      = match[1].str().substr(0, 3) == "max";
     objective_key = match[2].str();
-    check_key(objective_key, place("Objective"));
+    check_result_key(objective_key, place("Objective"));
 
     // The constraints: KEY <= VALUE or KEY >= VALUE.
     static const std::regex constraint(R"(^\s*(\S+)\s*(<=|>=)\s*(\S+)\s*$)");
@@ -230,7 +234,7 @@ namespace TKR::Problems
         c.at_most = match[2].str() == "<=";
         c.value =
           parse_number(match[3].str(), place("Constraints") + ": " + c.key);
-        check_key(c.key, place("Constraints"));
+        check_result_key(c.key, place("Constraints"));
         constraints.push_back(c);
       }
     AssertThrow(constraints.empty() || o.method == "cobyla",

@@ -148,6 +148,11 @@ namespace TKR::Problems
     void
     parse_verification();
 
+    /** Refuse @p key (named at @p where) if it is not a number of the
+     *  results. */
+    void
+    check_result_key(const std::string &key, const std::string &where) const;
+
     /** The first line on the screen; without --resume the evaluations of
      *  an earlier run deleted. */
     void
