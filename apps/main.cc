@@ -10,6 +10,7 @@
 #include <tkr/base/mpi.h>
 #include <tkr/base/registry.h>
 #include <tkr/base/result_schema.h>
+#include <tkr/elasticity/blas_kernel.h>
 #include <tkr/parameters/parameters.h>
 #include <tkr/problems/calibration_problem.h>
 #include <tkr/problems/contact_problem.h>
@@ -57,8 +58,13 @@ namespace
     const Parameters::AllParameters parameters =
       Parameters::read_parameters(filename);
     if (dealii::Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
-      for (const std::string &note : parameters.notes)
-        std::cout << "Note: " << note << std::endl;
+      {
+        for (const std::string &note : parameters.notes)
+          std::cout << "Note: " << note << std::endl;
+        const std::string blas = Elasticity::BlasKernel::note();
+        if (!blas.empty() && !parameters.output.testing)
+          std::cout << "BLAS: " << blas << std::endl;
+      }
     const bool stoppable =
       parameters.problem == Parameters::ProblemType::wear ||
       parameters.problem == Parameters::ProblemType::study ||
@@ -117,6 +123,8 @@ int
 main(int argc, char *argv[])
 {
   using namespace dealii;
+  // (may execute the program again, before MPI starts)
+  TKR::Elasticity::BlasKernel::select(argv);
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   const MPI_Comm                   mpi_communicator = MPI_COMM_WORLD;
   const bool is_root = Utilities::MPI::this_mpi_process(mpi_communicator) == 0;
