@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <climits>
 #include <cstdlib>
 
 namespace TKR::Elasticity::BlasKernel
@@ -97,9 +98,16 @@ namespace TKR::Elasticity::BlasKernel
     const std::string better = better_core(core, this_processor());
     if (better.empty())
       return;
+    // The executable's own path, not /proc/self/exe: the process keeps its
+    // name (ps, pkill -x tkr-wear).
+    char          path[PATH_MAX];
+    const ssize_t length = readlink("/proc/self/exe", path, sizeof(path) - 1);
+    if (length <= 0)
+      return;
+    path[length] = '\0';
     setenv("OPENBLAS_CORETYPE", better.c_str(), 1);
     setenv(fallback_variable, core.c_str(), 1);
-    execv("/proc/self/exe", argv);
+    execv(path, argv);
     // (could not run again: go on with the kernels OpenBLAS chose)
     unsetenv("OPENBLAS_CORETYPE");
     unsetenv(fallback_variable);
