@@ -75,13 +75,11 @@ namespace TKR::Elasticity::BlasKernel
     const int chosen = rank_of(core);
     if (chosen < 0 || chosen >= rank_of("Sandybridge"))
       return "";
-    const std::string best = processor.avx512 ? "SkylakeX" :
-                             processor.avx2   ? "Haswell" :
-                             processor.avx    ? "Sandybridge" :
-                                                "";
-    if (best.empty() || rank_of(best) <= chosen)
-      return "";
-    return best;
+    // (each of them is above every fallback)
+    return processor.avx512 ? "SkylakeX" :
+           processor.avx2   ? "Haswell" :
+           processor.avx    ? "Sandybridge" :
+                              "";
   }
 
   void

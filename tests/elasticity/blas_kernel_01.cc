@@ -44,12 +44,12 @@ main()
     {"Atom", avx2},
     {"", avx512}};
   for (const auto &[core, processor] : cases)
-    deallog << "core '" << core << "', avx " << processor.avx << " avx2 "
-            << processor.avx2 << " avx512 " << processor.avx512 << ": "
-            << (better_core(core, processor).empty() ?
-                  std::string("keep") :
-                  better_core(core, processor))
-            << std::endl;
+    {
+      const std::string better = better_core(core, processor);
+      deallog << "core '" << core << "', avx " << processor.avx << " avx2 "
+              << processor.avx2 << " avx512 " << processor.avx512 << ": "
+              << (better.empty() ? "keep" : better) << std::endl;
+    }
 
   // select() leaves a set OPENBLAS_CORETYPE alone (else it would have run
   // this test again before initlog()).

@@ -50,7 +50,7 @@ namespace TKR::Elasticity::BlasKernel
   /**
    * What select() did, for the run's header: "" if it did nothing, else
    * e.g. "OpenBLAS's SkylakeX kernels (it chose Prescott on this
-   * processor)".
+   * processor, which it does not know; OPENBLAS_CORETYPE overrides)".
    */
   std::string
   note();
