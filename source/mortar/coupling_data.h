@@ -30,8 +30,7 @@ namespace TKR::Mortar
   inline dealii::BoundingBox<3>
   face_box(const std::array<dealii::Point<3>, 4> &x)
   {
-    return dealii::BoundingBox<3>(
-      std::vector<dealii::Point<3>>(x.begin(), x.end()));
+    return dealii::BoundingBox<3>(x);
   }
 
   /**
@@ -95,9 +94,28 @@ namespace TKR::Mortar
     std::vector<dealii::Tensor<1, 3>>                         gap_gradient;
     std::vector<std::vector<std::pair<unsigned int, double>>> rows;
 
-    std::vector<BoxEntry>              candidates;
-    std::vector<std::array<double, 4>> phi;
-    std::vector<double>                weight;
+    std::vector<BoxEntry>                  candidates;
+    std::vector<std::vector<unsigned int>> pairs;
+    std::vector<std::array<double, 4>>     phi;
+    std::vector<double>                    weight;
+
+    /** Empty for a coupling of @p n_nodes slave nodes and @p n_faces slave
+     *  faces; the vectors keep their memory from the last reinit(). */
+    void
+    reset(const unsigned int n_nodes, const unsigned int n_faces)
+    {
+      faces.assign(n_faces, Face());
+      cells.clear();
+      points.clear();
+      covered_D.assign(n_nodes, 0.);
+      gap_gradient.assign(n_nodes, dealii::Tensor<1, 3>());
+      rows.resize(n_nodes);
+      for (auto &row : rows)
+        row.clear();
+      pairs.resize(n_faces);
+      for (auto &face_pairs : pairs)
+        face_pairs.clear();
+    }
   };
 
   /** The master surface at the current positions. */

@@ -145,9 +145,8 @@ namespace TKR::Mortar
         if (distance > search_distance ||
             master_plane.max_beta - projection->min_height < -search_distance)
           continue;
-        const BoundingBox<2> master_box(
-          std::vector<Point2>(master_plane.quad.vertices.begin(),
-                              master_plane.quad.vertices.end()));
+        const BoundingBox<2> master_box =
+          BoundingBox<2>(master_plane.quad.vertices);
         if (projection->box.get_neighbor_type(master_box) ==
             NeighborType::not_neighbors)
           continue;

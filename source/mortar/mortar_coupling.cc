@@ -145,6 +145,7 @@ namespace TKR::Mortar
                          const Tensor<2, 3>          &master_rotation,
                          const CouplingWindow        *window)
   {
+    ++n_reinits;
     update_slave_cache(positions);
     nodes.assign(slave.nodes().size(), SlaveNode());
     for (unsigned int j = 0; j < nodes.size(); ++j)
@@ -158,14 +159,13 @@ namespace TKR::Mortar
     stats.n_master_faces = master.faces().size();
 
     const MasterGeometry master_faces(master, positions);
-    Accumulator          accumulator;
-    accumulator.faces.resize(slave.faces().size());
-    accumulator.covered_D.assign(nodes.size(), 0.);
-    accumulator.gap_gradient.assign(nodes.size(), Tensor<1, 3>());
-    accumulator.rows.resize(nodes.size());
-    const unsigned int n_faces = slave.faces().size();
+    const unsigned int   n_faces = slave.faces().size();
+    if (!scratch)
+      scratch = std::make_shared<Accumulator>();
+    Accumulator &accumulator = *scratch;
+    accumulator.reset(nodes.size(), n_faces);
+    auto &pairs = accumulator.pairs;
     face_distance.assign(n_faces, std::numeric_limits<double>::infinity());
-    std::vector<std::vector<unsigned int>> pairs(n_faces);
     for (unsigned int e = 0; e < n_faces; ++e)
       find_pairs(e,
                  positions,
@@ -230,9 +230,8 @@ namespace TKR::Mortar
             min_height = std::min(min_height, plane.height(x));
             max_height = std::max(max_height, plane.height(x));
           }
-        const BoundingBox<2> box(
-          std::vector<Point2>(outline.begin(), outline.end()));
-        const double area = signed_area(outline);
+        const BoundingBox<2> box  = BoundingBox<2>(outline);
+        const double         area = signed_area(outline);
         result.emplace(SlaveProjection{plane,
                                        quad,
                                        outline,

@@ -218,6 +218,10 @@ namespace TKR::Mortar
   Polygon
   clip_polygon(const Polygon &subject, const Polygon &clip)
   {
+    // Each clip edge at most doubles the vertices (in exact arithmetic
+    // it adds at most one to a convex polygon).
+    AssertThrow(subject.size() << clip.size() <= Polygon::static_capacity,
+                ExcInternalError());
     Polygon polygon = subject;
     if (signed_area(polygon) < 0)
       std::reverse(polygon.begin(), polygon.end());

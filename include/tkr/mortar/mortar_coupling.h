@@ -293,6 +293,13 @@ namespace TKR::Mortar
     {
       return nodes;
     }
+    /** How many times reinit() ran: what is computed from the nodes may
+     *  be kept while this stays the same. */
+    std::uint64_t
+    generation() const
+    {
+      return n_reinits;
+    }
     const ContactSurface &
     slave_surface() const
     {
@@ -404,6 +411,8 @@ namespace TKR::Mortar
     CouplingStatistics     stats;
     /** The slave-side data of update_slave_cache(). */
     std::shared_ptr<SlaveCache> slave_cache;
+    /** reinit()'s working space, kept between calls for its memory. */
+    std::shared_ptr<Accumulator> scratch;
     /** Per slave face, of the last reinit(): the lower bound of its
      *  distance to the master faces that may couple to it (mm, infinity
      *  if none may), and whether it was within the window (all true
@@ -412,6 +421,8 @@ namespace TKR::Mortar
     std::vector<bool>   near_face;
     /** Width of the last reinit()'s window (0: none). */
     double window_width = 0;
+    /** See generation(). */
+    std::uint64_t n_reinits = 0;
   };
 } // namespace TKR::Mortar
 

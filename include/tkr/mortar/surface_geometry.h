@@ -7,6 +7,8 @@
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 
+#include <boost/container/static_vector.hpp>
+
 #include <array>
 #include <vector>
 
@@ -47,8 +49,12 @@ namespace TKR::Mortar
     area_normal(const Point2 &xi) const;
   };
 
-  /** A polygon in a plane (counter-clockwise unless stated). */
-  using Polygon = std::vector<Point2>;
+  /** A polygon in a plane (counter-clockwise unless stated), its
+   *  vertices kept in place, without the heap (a coupling clips thousands
+   *  of pairs). A quadrilateral clipped by another has at most eight in
+   *  exact arithmetic and at most 64 whatever the round-off
+   *  (clip_polygon()). */
+  using Polygon = boost::container::static_vector<Point2, 64>;
 
   /**
    * The auxiliary plane of a slave face (Puso & Laursen 2004; Popp et al.
