@@ -409,8 +409,11 @@ namespace TKR::Contact
     std::vector<unsigned int> needed;
     for (const unsigned int i : active)
       for (auto e = B.begin(i); e != B.end(i); ++e)
-        if (node_columns[e->column / 3][e->column % 3].surface.empty())
-          needed.push_back(e->column / 3);
+        {
+          used_nodes[e->column / 3] = true;
+          if (node_columns[e->column / 3][e->column % 3].surface.empty())
+            needed.push_back(e->column / 3);
+        }
     std::sort(needed.begin(), needed.end());
     needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
     if (!needed.empty())

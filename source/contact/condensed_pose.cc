@@ -67,15 +67,16 @@ namespace TKR::Contact
                                           PoseData         &data,
                                           PoseDerivatives::Point &point)
   {
-    const Mortar::MortarOperator B          = mortar_operator();
-    ContactStatistics            statistics = iterate(B,
+    const auto                    operator_B = mortar_operator();
+    const Mortar::MortarOperator &B          = *operator_B;
+    ContactStatistics             statistics = iterate(B,
                                            data.zone,
                                            data.z,
                                            data.u0,
                                            data.u0_observations,
                                            initial_distance,
                                            point.state);
-    statistics.relative_residual            = basis_residual;
+    statistics.relative_residual             = basis_residual;
     statistics.converged =
       statistics.converged && basis_residual <= parameters.tolerance;
     last_rhs.clear();
@@ -145,9 +146,10 @@ namespace TKR::Contact
                                                const std::vector<double> &q,
                                                PoseData                  &data)
   {
-    const auto                  &nodes = coupling.slave_nodes();
-    const Mortar::MortarOperator B     = mortar_operator();
-    std::vector<unsigned int>    active;
+    const auto                   &nodes      = coupling.slave_nodes();
+    const auto                    operator_B = mortar_operator();
+    const Mortar::MortarOperator &B          = *operator_B;
+    std::vector<unsigned int>     active;
     for (unsigned int j = 0; j < nodes.size(); ++j)
       if (data.active[j])
         active.push_back(j);

@@ -43,12 +43,20 @@ namespace TKR::Contact
     const std::uint64_t fingerprint = master_fingerprint();
     last_stiffness_nodes.clear();
     if (node_columns.size() == coupling.slave_surface().nodes().size() +
-                                 coupling.master_surface().nodes().size())
+                                 coupling.master_surface().nodes().size() &&
+        used_nodes.size() == node_columns.size())
       for (unsigned int node = 0; node < node_columns.size(); ++node)
-        if (!node_columns[node][0].surface.empty())
+        if (!node_columns[node][0].surface.empty() && used_nodes[node])
           last_stiffness_nodes.push_back(node);
     clear_columns(!node_columns.empty() && fingerprint == master_block);
     master_block = fingerprint;
+    new_cycle();
+  }
+
+  void
+  CondensedActiveSetSolver::new_cycle()
+  {
+    used_nodes.assign(node_columns.size(), false);
   }
 
   // u_0 = K^{-1} f with f the tractions of the loads (the springs are in
@@ -221,9 +229,10 @@ namespace TKR::Contact
                                     const double               initial_distance,
                                     ContactState              &state)
   {
-    const Mortar::MortarOperator B = mortar_operator();
-    std::vector<Column>          z(coupling.slave_nodes().size());
-    Zone                         zone;
+    const auto                    operator_B = mortar_operator();
+    const Mortar::MortarOperator &B          = *operator_B;
+    std::vector<Column>           z(coupling.slave_nodes().size());
+    Zone                          zone;
     {
       TimerOutput::Scope scope(timer, "contact zone");
       zone = make_zone(B, u0);

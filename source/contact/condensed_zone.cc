@@ -71,13 +71,21 @@ namespace TKR::Contact
     const auto        &nodes   = coupling.slave_nodes();
     const unsigned int n_slave = nodes.size();
     Zone               zone;
+    // The referenced values in increasing order, and their compact
+    // indices, through a table over all surface values.
+    constexpr unsigned int    unused = numbers::invalid_unsigned_int;
+    std::vector<unsigned int> compact(surface_dofs.size(), unused);
     for (unsigned int j = 0; j < n_slave; ++j)
       if (nodes[j].covered)
         for (auto e = B.begin(j); e != B.end(j); ++e)
-          zone.values.push_back(e->column);
+          compact[e->column] = 0;
     auto &values = zone.values;
-    std::sort(values.begin(), values.end());
-    values.erase(std::unique(values.begin(), values.end()), values.end());
+    for (unsigned int c = 0; c < compact.size(); ++c)
+      if (compact[c] != unused)
+        {
+          compact[c] = values.size();
+          values.push_back(c);
+        }
     zone.n_slave =
       std::lower_bound(values.begin(), values.end(), n_slave_values) -
       values.begin();
@@ -85,11 +93,7 @@ namespace TKR::Contact
     for (unsigned int j = 0; j < n_slave; ++j)
       if (nodes[j].covered)
         for (auto e = B.begin(j); e != B.end(j); ++e)
-          zone.rows[j].push_back(
-            {static_cast<unsigned int>(
-               std::lower_bound(values.begin(), values.end(), e->column) -
-               values.begin()),
-             e->value});
+          zone.rows[j].push_back({compact[e->column], e->value});
     if (last_gathered != nullptr && values == last_zone_values)
       zone.gathered = last_gathered;
     else

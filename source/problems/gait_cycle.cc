@@ -435,6 +435,7 @@ namespace TKR::Problems
     check_overlap   = initial_geometry;
     initial_overlap = 0;
     cycle_starts    = starts;
+    solver->new_cycle();
     std::string error;
     int         signal = 0;
     try

@@ -103,13 +103,23 @@ namespace TKR::Contact
 
     /**
      * Compute the columns of the nodes whose columns the solves of the
-     * last stiffness used (remembered by setup()), in full batches, each
-     * group of @p peers a share, and exchange them: the step groups solve
-     * interleaved steps of one gait, so they need nearly the same columns.
-     * Call after setup(), add_observation() and set_load_basis().
+     * last gait cycle before setup() used (remembered by setup()), in full
+     * batches, each group of @p peers a share, and exchange them: the step
+     * groups solve interleaved steps of one gait, so they need nearly the
+     * same columns. Call after setup(), add_observation() and
+     * set_load_basis().
      */
     void
     prefetch(const MPI_Comm peers) override;
+
+    /**
+     * Forget which columns the solves used: prefetch() then computes those
+     * of the solves from here on. (The first cycle's steps start cold and
+     * reach many more nodes on their way than the warm cycles after it: a
+     * third of its columns were unused in the cycles that followed.)
+     */
+    void
+    new_cycle() override;
 
     /** Also forgets the stored columns (they hold the observations). */
     unsigned int
@@ -180,14 +190,20 @@ namespace TKR::Contact
     master_fingerprint();
 
     /**
-     * The mortar operator of the coupling (timed as part of the contact
-     * zone).
+     * The mortar operator of the coupling, made again only after the
+     * coupling's reinit() (timed as part of the contact zone): the pose
+     * iteration's solves share one coupling.
      */
-    Mortar::MortarOperator
+    std::shared_ptr<const Mortar::MortarOperator>
     mortar_operator() const
     {
       dealii::TimerOutput::Scope scope(timer, "contact zone");
-      return Mortar::MortarOperator(coupling);
+      if (!last_operator || operator_generation != coupling.generation())
+        {
+          last_operator = std::make_shared<Mortar::MortarOperator>(coupling);
+          operator_generation = coupling.generation();
+        }
+      return last_operator;
     }
 
     /** Compute the columns of the surface nodes @p nodes (x, y, z each). */
@@ -458,9 +474,17 @@ namespace TKR::Contact
     std::uint64_t master_block = 0;
     /**
      * The surface nodes that had columns when setup() last forgot them
-     * (prefetch() computes them again), or none if the surfaces changed.
+     * and whose columns the solves since new_cycle() used (prefetch()
+     * computes them again), or none if the surfaces changed.
      */
     std::vector<unsigned int> last_stiffness_nodes;
+    /** mortar_operator()'s operator and the coupling's generation it is
+     *  of. */
+    mutable std::shared_ptr<const Mortar::MortarOperator> last_operator;
+    mutable std::uint64_t operator_generation = 0;
+    /** Per surface node: whether a solve since new_cycle() (or the last
+     *  setup()) used its columns (ensure_columns()). */
+    std::vector<bool> used_nodes;
     /** The locally owned DoFs of the master body's cells. */
     dealii::IndexSet master_body_dofs;
 

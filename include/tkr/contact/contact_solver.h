@@ -126,6 +126,15 @@ namespace TKR::Contact
     }
 
     /**
+     * A gait cycle begins: what prefetch() precomputes at the next setup()
+     * is what the solves from here on use (the condensed solver's columns).
+     * The others need nothing.
+     */
+    virtual void
+    new_cycle()
+    {}
+
+    /**
      * The full displacement of the last solve (ghosted: every locally
      * relevant entry). The condensed solver computes only the contact
      * surfaces and the observations in solve(); this costs it one more
