@@ -150,6 +150,41 @@ main(int argc, char **argv)
             << yes_no(min_gap >= clearance - sagittas &&
                       max_gap <= clearance + sagittas)
             << std::endl;
+
+    // reinit() keeps its working space: a second call on the same
+    // positions gives the same nodes to the last bit.
+    const auto first = coupling.slave_nodes();
+    coupling.reinit(triangulation.get_vertices(), 1.);
+    bool same = coupling.slave_nodes().size() == first.size();
+    for (unsigned int j = 0; same && j < first.size(); ++j)
+      {
+        const auto &a = first[j], &b = coupling.slave_nodes()[j];
+        same = a.weighted_gap == b.weighted_gap && a.D == b.D && a.M == b.M &&
+               a.gap_gradient == b.gap_gradient && a.covered == b.covered;
+      }
+    deallog << "second reinit identical: " << yes_no(same) << ", generation "
+            << coupling.generation() << std::endl;
+    deallog.pop();
+  }
+
+  {
+    // A square and the same square turned by 45 degrees meet in a regular
+    // octagon of inradius 1: area 8 tan(pi/8), eight vertices.
+    deallog.push("clip");
+    const double          r       = std::sqrt(2.);
+    const Mortar::Polygon square  = {Point<2>(-1, -1),
+                                     Point<2>(1, -1),
+                                     Point<2>(1, 1),
+                                     Point<2>(-1, 1)};
+    const Mortar::Polygon diamond = {Point<2>(r, 0),
+                                     Point<2>(0, r),
+                                     Point<2>(-r, 0),
+                                     Point<2>(0, -r)};
+    const Mortar::Polygon octagon = Mortar::clip_polygon(diamond, square);
+    deallog << "vertices " << octagon.size() << ", area 8 tan(pi/8) to 1e-12: "
+            << yes_no(std::abs(Mortar::signed_area(octagon) -
+                               8. * std::tan(numbers::PI / 8.)) < 1e-12)
+            << std::endl;
     deallog.pop();
   }
 }
