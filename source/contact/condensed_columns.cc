@@ -225,7 +225,8 @@ namespace TKR::Contact
         const unsigned int n_columns =
           std::min<unsigned int>(batch, 3 * nodes.size() - start);
         Epetra_MultiVector rhs(direct_solver.row_map(), n_columns);
-        Epetra_MultiVector X(direct_solver.row_map(), n_columns);
+        // (X is overwritten: no zeros first)
+        Epetra_MultiVector X(direct_solver.row_map(), n_columns, false);
         for (unsigned int c = 0; c < n_columns; ++c)
           add_load(rhs,
                    c,

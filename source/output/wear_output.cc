@@ -314,7 +314,9 @@ namespace TKR::Output
   }
 
   void
-  write_worn_tibia(const Geometry::WornGeometry &geometry,
+  write_worn_tibia(const unsigned int            piece,
+                   const unsigned int            n_pieces,
+                   const Geometry::WornGeometry &geometry,
                    const WornTibiaFields        &fields,
                    VtuSeries                    &series,
                    const unsigned int            index,
@@ -332,11 +334,24 @@ namespace TKR::Output
     for (const auto &[name, values] : fields)
       vertex_fields.add(name, values);
 
-    // The tibia's locally owned cells only.
-    using Iterator      = typename Triangulation<3>::cell_iterator;
-    const auto selected = [](const Iterator &cell) {
+    // The tibia's locally owned cells of this piece only: the piece-th of
+    // n_pieces consecutive shares of the tibia's cells.
+    using Iterator = typename Triangulation<3>::cell_iterator;
+    std::vector<bool> in_piece(dof_handler.get_triangulation().n_active_cells(),
+                               false);
+    {
+      std::vector<unsigned int> tibia_cells;
+      for (const auto &cell :
+           dof_handler.get_triangulation().active_cell_iterators())
+        if (cell->material_id() == Mesh::MaterialIds::tibia)
+          tibia_cells.push_back(cell->active_cell_index());
+      const std::uint64_t n_tibia = tibia_cells.size();
+      for (std::uint64_t k = 0; k < n_tibia; ++k)
+        in_piece[tibia_cells[k]] = k * n_pieces / n_tibia == piece;
+    }
+    const auto selected = [&in_piece](const Iterator &cell) {
       return cell->is_active() && cell->is_locally_owned() &&
-             cell->material_id() == Mesh::MaterialIds::tibia;
+             in_piece[cell->active_cell_index()];
     };
     DataOut<3> data_out;
     data_out.set_cell_selection(

@@ -59,9 +59,8 @@ namespace TKR::Problems
                                  run.model.world());
       // The worn tibia every Output/Worn VTU interval blocks and at the end.
       const unsigned int every = output.worn_vtu_interval;
-      if (every > 0 && run.groups.index == 0 &&
-          (run.state.block % every == 0 ||
-           run.state.cycles >= parameters.wear.cycles))
+      if (every > 0 && (run.state.block % every == 0 ||
+                        run.state.cycles >= parameters.wear.cycles))
         worn_tibia();
     }
   }
@@ -74,10 +73,9 @@ namespace TKR::Problems
   {
     const auto &output = run.model.parameters().output;
     if (!worn_series)
-      worn_series =
-        std::make_unique<Output::VtuSeries>(output.directory,
-                                            "worn",
-                                            run.groups.communicator);
+      worn_series = std::make_unique<Output::VtuSeries>(output.directory,
+                                                        "worn",
+                                                        run.model.world());
     const auto        &surface    = run.model.geometry().worn_surface().nodes();
     const unsigned int n_vertices = run.model.triangulation().n_vertices();
     const auto &peak = run.cycle.get_records()[run.cycle.peak_load_step()];
@@ -109,7 +107,10 @@ namespace TKR::Problems
                             [&, &values = values](const unsigned int j) {
                               return values[j];
                             }));
-    Output::write_worn_tibia(run.model.geometry(),
+    // (each step group a share of the cells)
+    Output::write_worn_tibia(run.groups.index,
+                             run.groups.n_groups,
+                             run.model.geometry(),
                              fields,
                              *worn_series,
                              run.state.block,

@@ -114,9 +114,14 @@ namespace TKR::Output
    * Output @p index of @p series, at time @p cycles: the tibia alone in its
    * worn geometry (the mesh moved by the wear displacement, which is also
    * written as the vector field `wear_displacement`), with @p fields.
+   * Each rank writes its locally owned tibia cells whose active cell index
+   * falls into the share @p piece of @p n_pieces (the step groups each
+   * hold the whole worn tibia: each writes a share, in parallel).
    */
   void
-  write_worn_tibia(const Geometry::WornGeometry &geometry,
+  write_worn_tibia(const unsigned int            piece,
+                   const unsigned int            n_pieces,
+                   const Geometry::WornGeometry &geometry,
                    const WornTibiaFields        &fields,
                    VtuSeries                    &series,
                    const unsigned int            index,

@@ -150,8 +150,9 @@ namespace TKR::Problems
 
   /**
    * The files of a wear run: per block a row of wear_history.csv and the
-   * worn tibia (worn.pvd, step group 0); at the end steps.csv and the step
-   * VTU files of the last cycle, the wear maps, summary.json and the plots.
+   * worn tibia (worn.pvd, each step group a share of its cells); at the end
+   * steps.csv and the step VTU files of the last cycle, the wear maps,
+   * summary.json and the plots.
    */
   class WearFiles
   {
@@ -170,7 +171,10 @@ namespace TKR::Problems
     finish();
 
   private:
-    /** The worn tibia's VTU file of the block (step group 0). */
+    /**
+     * The worn tibia's VTU files of the block (collective: each step group
+     * writes a share of the cells).
+     */
     void
     worn_tibia();
 
