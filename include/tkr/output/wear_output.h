@@ -114,9 +114,9 @@ namespace TKR::Output
    * Output @p index of @p series, at time @p cycles: the tibia alone in its
    * worn geometry (the mesh moved by the wear displacement, which is also
    * written as the vector field `wear_displacement`), with @p fields.
-   * Each rank writes its locally owned tibia cells whose active cell index
-   * falls into the share @p piece of @p n_pieces (the step groups each
-   * hold the whole worn tibia: each writes a share, in parallel).
+   * Each rank writes its locally owned cells among the @p piece-th of
+   * @p n_pieces consecutive shares of the tibia's cells (the step groups
+   * each hold the whole worn tibia: each writes a share, in parallel).
    */
   void
   write_worn_tibia(const unsigned int            piece,
