@@ -248,7 +248,9 @@ namespace TKR::Mortar
             if ((dp > 0 && dq < 0) || (dp < 0 && dq > 0))
               clipped.push_back(p + (dp / (dp - dq)) * (q - p));
           }
-        polygon.swap(clipped);
+        // (a copy of the vertices there are, not a swap of both whole
+        // arrays)
+        polygon.assign(clipped.begin(), clipped.end());
       }
 
     // Remove repeated vertices (a vertex on a clip edge, or a clip corner
