@@ -248,8 +248,8 @@ namespace TKR::Mortar
             if ((dp > 0 && dq < 0) || (dp < 0 && dq > 0))
               clipped.push_back(p + (dp / (dp - dq)) * (q - p));
           }
-        // (a copy of the vertices there are, not a swap of both whole
-        // arrays)
+        // (copies the clipped vertices only; a swap would exchange both
+        // whole arrays)
         polygon.assign(clipped.begin(), clipped.end());
       }
 
