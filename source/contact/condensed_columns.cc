@@ -286,6 +286,9 @@ namespace TKR::Contact
     std::vector<int> local(2 * n_nodes, 0);
     for (const unsigned int node : last_stiffness_nodes)
       local[node] = 1;
+    for (unsigned int node = 0; node < expected_nodes.size(); ++node)
+      if (expected_nodes[node])
+        local[node] = 1;
     for (unsigned int node = 0; node < n_nodes; ++node)
       if (!node_columns[node][0].surface.empty())
         local[n_nodes + node] = 1;
@@ -333,6 +336,18 @@ namespace TKR::Contact
       compute_columns(to_compute);
     if (Utilities::MPI::n_mpi_processes(peers) > 1)
       exchange_columns(sent, peers);
+    expected_nodes.clear();
+  }
+
+  void
+  CondensedActiveSetSolver::expect(const std::vector<unsigned int> &slave_nodes)
+  {
+    const auto                    operator_B = mortar_operator();
+    const Mortar::MortarOperator &B          = *operator_B;
+    expected_nodes.resize(node_columns.size(), false);
+    for (const unsigned int i : slave_nodes)
+      for (auto e = B.begin(i); e != B.end(i); ++e)
+        expected_nodes[e->column / 3] = true;
   }
 
   // The columns travel in rounds of a few nodes per peer, to bound the

@@ -113,6 +113,20 @@ namespace TKR::Contact
     prefetch(const MPI_Comm peers) override;
 
     /**
+     * Note the surface nodes whose columns the rows of @p slave_nodes in
+     * the present coupling need: the next prefetch() computes them too,
+     * in full batches, each of its peers a share.
+     */
+    void
+    expect(const std::vector<unsigned int> &slave_nodes) override;
+
+    bool
+    uses_expectations() const override
+    {
+      return true;
+    }
+
+    /**
      * Forget which columns the solves used: prefetch() then computes those
      * of the solves from here on. (The first cycle's steps start cold and
      * reach many more nodes on their way than the warm cycles after it: a
@@ -478,6 +492,8 @@ namespace TKR::Contact
      * computes them again), or none if the surfaces changed.
      */
     std::vector<unsigned int> last_stiffness_nodes;
+    /** The surface nodes that expect() noted since the last prefetch(). */
+    std::vector<bool> expected_nodes;
     /** mortar_operator()'s operator and the coupling's generation it is
      *  of. */
     mutable std::shared_ptr<const Mortar::MortarOperator> last_operator;

@@ -126,6 +126,26 @@ namespace TKR::Contact
     }
 
     /**
+     * The solves after the next setup() will probably need what the rows
+     * of the present coupling's slave nodes @p slave_nodes touch: the next
+     * prefetch() precomputes that too (the first cycle's steps start cold,
+     * with nothing used before to go by). The condensed solver notes the
+     * surface nodes of the rows; the others need nothing.
+     */
+    virtual void
+    expect(const std::vector<unsigned int> &slave_nodes)
+    {
+      (void)slave_nodes;
+    }
+
+    /** Whether expect() is of use to this solver (the condensed one). */
+    virtual bool
+    uses_expectations() const
+    {
+      return false;
+    }
+
+    /**
      * A gait cycle begins: what prefetch() precomputes at the next setup()
      * is what the solves from here on use (the condensed solver's columns).
      * The others need nothing.

@@ -268,6 +268,14 @@ namespace TKR::Problems
     void
     finish_solve(StepProgress &progress) const;
 
+    /**
+     * Tell the solver which nodes the first cycle's solves will probably
+     * need (ContactSolver::expect()): those within a clearance of the
+     * femur where each step of this group starts.
+     */
+    void
+    expect_contact();
+
     /** The mortar coupling at @p motion, in @p window if given. */
     void
     couple(const Gait::RelativeMotion   &motion,
@@ -295,6 +303,11 @@ namespace TKR::Problems
      */
     double
     touching_lift(const std::vector<dealii::Point<3>> &positions) const;
+
+    /** The lift of a cold step's start at @p input: touching_lift() at
+     *  rest if that is more than half the search distance, else 0. */
+    double
+    cold_lift(const Gait::StepInput &input) const;
 
     /**
      * At the first step of the initial geometry from rest (@p pose), the
