@@ -131,8 +131,6 @@ namespace TKR::Problems
         observation_names.push_back(name);
       }
     solver->set_load_basis(model.mapping(), protocol->load_basis());
-    if (first && groups.n_groups > 1 && solver->uses_expectations())
-      expect_contact();
     solver->prefetch(groups.peers);
     if (!first)
       return;
@@ -180,18 +178,19 @@ namespace TKR::Problems
     return lift;
   }
 
-  // The first cycle's solves have nothing before them to say which
-  // compliance columns they will need, and the step groups solve
-  // interleaved steps: each group would compute nearly all of them itself
-  // (98 % of the same nodes on the medium mesh). So each group couples its
-  // steps where they will start (rest, lifted to touch as start_step()
-  // does, or a checkpoint's warm start) and notes the nodes within
-  // expected_clearance of the femur there: the first prefetch() computes
-  // their columns in full batches, each group a share, and the steps
-  // compute only what that missed. (1 mm: on the medium mesh 2,222
-  // nodes noted for the 1,780 the first cycle used, 80-90 missed per
-  // group; 0.5 mm missed 280.) The result does not depend on it: a column
-  // is the same whoever computes it.
+  // The first cycle's solves (or the first after a checkpoint's resume)
+  // have nothing before them to say which compliance columns they will
+  // need, and the step groups solve interleaved steps: each group would
+  // compute nearly all of them itself (98 % of the same nodes on the
+  // medium mesh). So each group couples its steps where they will start
+  // (rest, lifted to touch as start_step() does, or a checkpoint's warm
+  // start) and notes the nodes within expected_clearance of the femur
+  // there: solve()'s prefetch() computes their columns in full batches,
+  // each group a share, and the steps compute only what that missed.
+  // (1 mm: on the medium mesh 2,222 nodes noted for the 1,780 the first
+  // cycle used, 80-90 missed per group; 0.5 mm missed 280.) The results
+  // do not depend on it but in round-off: a column solved in a batch of
+  // another size differs in its last bits.
   void
   GaitCycle::expect_contact()
   {
@@ -492,6 +491,14 @@ namespace TKR::Problems
     initial_overlap = 0;
     cycle_starts    = starts;
     solver->new_cycle();
+    // (decided alike on every rank: prefetch() is collective)
+    if (groups.n_groups > 1 &&
+        Utilities::MPI::max(solver->wants_expectations() ? 1 : 0,
+                            model.world()) == 1)
+      {
+        expect_contact();
+        solver->prefetch(groups.peers);
+      }
     std::string error;
     int         signal = 0;
     try

@@ -121,9 +121,9 @@ namespace TKR::Contact
     expect(const std::vector<unsigned int> &slave_nodes) override;
 
     bool
-    uses_expectations() const override
+    wants_expectations() const override
     {
-      return true;
+      return n_stored_columns == 0;
     }
 
     /**

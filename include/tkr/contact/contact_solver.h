@@ -138,9 +138,13 @@ namespace TKR::Contact
       (void)slave_nodes;
     }
 
-    /** Whether expect() is of use to this solver (the condensed one). */
+    /**
+     * Whether expect() and a prefetch() would help the next solves: the
+     * condensed solver holds no columns (the first cycle, with no cycle
+     * before it to go by). The others never need it.
+     */
     virtual bool
-    uses_expectations() const
+    wants_expectations() const
     {
       return false;
     }
