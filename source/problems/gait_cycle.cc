@@ -199,13 +199,10 @@ namespace TKR::Problems
     for (const unsigned int step : groups.own_items(n_steps()))
       {
         const Gait::StepInput input = protocol->input(100. * step / n_steps());
-        Gait::Pose            pose;
-        if (parameters.wear.warm_start && !starts[step].empty())
-          pose = starts[step].predicted_pose();
-        else
-          {
-            pose = protocol->rest_pose(input, cold_lift(input));
-          }
+        const Gait::Pose      pose =
+          parameters.wear.warm_start && !starts[step].empty() ?
+                 starts[step].predicted_pose() :
+                 protocol->rest_pose(input, cold_lift(input));
         const Gait::RelativeMotion motion = protocol->motion(input, pose);
         {
           TimerOutput::Scope scope(model.timer(), "mortar coupling");

@@ -103,8 +103,9 @@ namespace TKR::Contact
 
     /**
      * Compute the columns of the nodes whose columns the solves of the
-     * last gait cycle before setup() used (remembered by setup()), in full
-     * batches, each group of @p peers a share, and exchange them: the step
+     * last gait cycle before setup() used (remembered by setup()) and of
+     * those expect() noted since the last call, in full batches, each
+     * group of @p peers a share, and exchange them: the step
      * groups solve interleaved steps of one gait, so they need nearly the
      * same columns. Call after setup(), add_observation() and
      * set_load_basis().

@@ -126,11 +126,11 @@ namespace TKR::Contact
     }
 
     /**
-     * The solves after the next setup() will probably need what the rows
-     * of the present coupling's slave nodes @p slave_nodes touch: the next
-     * prefetch() precomputes that too (the first cycle's steps start cold,
-     * with nothing used before to go by). The condensed solver notes the
-     * surface nodes of the rows; the others need nothing.
+     * The next solves will probably need what the rows of the present
+     * coupling's slave nodes @p slave_nodes touch: the next prefetch()
+     * precomputes that too (for a cycle with no cycle before it to go by,
+     * see wants_expectations()). The condensed solver notes the surface
+     * nodes of the rows; the others need nothing.
      */
     virtual void
     expect(const std::vector<unsigned int> &slave_nodes)
