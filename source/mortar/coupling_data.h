@@ -11,6 +11,8 @@
 
 #include <deal.II/base/bounding_box.h>
 
+#include <deal.II/lac/full_matrix.h>
+
 #include <deal.II/numerics/rtree.h>
 
 #include <tkr/mortar/mortar_coupling.h>
@@ -54,6 +56,14 @@ namespace TKR::Mortar
     }
   };
 
+  /** A master face that may couple to a slave face (find_pairs()), and
+   *  its projection onto the slave face's plane. */
+  struct MortarCoupling::FacePair
+  {
+    unsigned int     master_face;
+    MasterProjection projection;
+  };
+
   /**
    * What reinit() collects: the integration cells of all slave faces with
    * their quadrature points (first pass), and then per slave node the
@@ -94,10 +104,12 @@ namespace TKR::Mortar
     std::vector<dealii::Tensor<1, 3>>                         gap_gradient;
     std::vector<std::vector<std::pair<unsigned int, double>>> rows;
 
-    std::vector<BoxEntry>                  candidates;
-    std::vector<std::vector<unsigned int>> pairs;
-    std::vector<std::array<double, 4>>     phi;
-    std::vector<double>                    weight;
+    std::vector<BoxEntry>              candidates;
+    std::vector<std::vector<FacePair>> pairs;
+    std::vector<std::array<double, 4>> phi;
+    std::vector<double>                weight;
+    /** A face's dual basis coefficients, and work space for them. */
+    dealii::FullMatrix<double> dual, mass, mass_inverse;
 
     /** Empty for a coupling of @p n_nodes slave nodes and @p n_faces slave
      *  faces; the vectors keep their memory from the last reinit(). */

@@ -117,7 +117,7 @@ namespace TKR::Mortar
                              const MasterGeometry        &master_faces,
                              const double                 search_distance,
                              Accumulator                 &accumulator,
-                             std::vector<unsigned int>   &pairs)
+                             std::vector<FacePair>       &pairs)
   {
     const std::optional<SlaveProjection> &projection =
       slave_cache->projections[e];
@@ -150,7 +150,7 @@ namespace TKR::Mortar
         if (projection->box.get_neighbor_type(master_box) ==
             NeighborType::not_neighbors)
           continue;
-        pairs.push_back(m);
+        pairs.push_back({m, master_plane});
         if (distance < face_distance[e])
           face_distance[e] = std::min(face_distance[e],
                                       lowest_height_over(master_faces.quads[m],

@@ -53,13 +53,18 @@ namespace TKR::Mortar
      * The test functions on a fully covered face: the dual basis
      * psi_i = sum_k A_ik phi_k with A = D_e M_e^{-1}, where M_e and its row
      * sums D_e come from the face's own quadrature points, so that
-     * sum_q W_q psi_i phi_k = delta_ik D_e,i holds to round-off.
+     * sum_q W_q psi_i phi_k = delta_ik D_e,i holds to round-off. (@p mass
+     * and @p mass_inverse: work space.)
      */
-    FullMatrix<double>
+    void
     dual_basis_coefficients(const std::vector<std::array<double, 4>> &phi,
-                            const std::vector<double>                &weight)
+                            const std::vector<double>                &weight,
+                            FullMatrix<double>                       &mass,
+                            FullMatrix<double> &mass_inverse,
+                            FullMatrix<double> &A)
     {
-      FullMatrix<double> mass(4, 4), mass_inverse(4, 4), A(4, 4);
+      mass.reinit(4, 4);
+      mass_inverse.reinit(4, 4);
       for (unsigned int q = 0; q < phi.size(); ++q)
         for (unsigned int i = 0; i < 4; ++i)
           for (unsigned int k = 0; k < 4; ++k)
@@ -73,7 +78,6 @@ namespace TKR::Mortar
           for (unsigned int k = 0; k < 4; ++k)
             A(i, k) = row_sum * mass_inverse(i, k);
         }
-      return A;
     }
   } // namespace
 
@@ -182,7 +186,7 @@ namespace TKR::Mortar
       choose_window_faces(*window, integrated, left_out);
     for (unsigned int e = 0; e < n_faces; ++e)
       if (integrated[e])
-        make_cells(e, pairs[e], master_faces, accumulator);
+        make_cells(e, pairs[e], accumulator);
       else
         accumulator.faces[e].first_cell = accumulator.faces[e].end_cell =
           accumulator.cells.size();
@@ -247,10 +251,9 @@ namespace TKR::Mortar
   // The integration cells of slave face e (see the class documentation):
   // a cell for each pair that overlaps in the plane.
   void
-  MortarCoupling::make_cells(const unsigned int               e,
-                             const std::vector<unsigned int> &pairs,
-                             const MasterGeometry            &master_faces,
-                             Accumulator                     &accumulator)
+  MortarCoupling::make_cells(const unsigned int           e,
+                             const std::vector<FacePair> &pairs,
+                             Accumulator                 &accumulator)
   {
     auto &face      = accumulator.faces[e];
     face.first_cell = face.end_cell = accumulator.cells.size();
@@ -261,8 +264,9 @@ namespace TKR::Mortar
     face.n0         = projection->plane.normal();
     face.plane_area = projection->area;
     face.exact      = slave_cache->exact[e];
-    for (const unsigned int m : pairs)
-      make_cell(e, m, *projection, master_faces, accumulator);
+    const PlaneQuadInverse slave_inverse(projection->quad);
+    for (const FacePair &pair : pairs)
+      make_cell(e, pair, *projection, slave_inverse, accumulator);
 
     face.end_cell = accumulator.cells.size();
     if (face.end_cell == face.first_cell)
@@ -280,18 +284,18 @@ namespace TKR::Mortar
       ++stats.n_partly_covered_faces;
   }
 
-  // The cell of slave face e and master face m (a pair of find_pairs()),
-  // if their projections overlap.
+  // The cell of slave face e and the master face of a pair of
+  // find_pairs(), if their projections overlap.
   void
-  MortarCoupling::make_cell(const unsigned int     e,
-                            const unsigned int     m,
-                            const SlaveProjection &slave_face,
-                            const MasterGeometry  &master_faces,
-                            Accumulator           &accumulator)
+  MortarCoupling::make_cell(const unsigned int      e,
+                            const FacePair         &pair,
+                            const SlaveProjection  &slave_face,
+                            const PlaneQuadInverse &slave_inverse,
+                            Accumulator            &accumulator)
   {
-    const MasterProjection projection(slave_face.plane, master_faces.quads[m]);
-    const PlaneQuad       &master_plane = projection.quad;
-    const int              orientation  = master_plane.convex_orientation();
+    const MasterProjection &projection   = pair.projection;
+    const PlaneQuad        &master_plane = projection.quad;
+    const int               orientation  = master_plane.convex_orientation();
     if (orientation == 0)
       {
         ++stats.n_rejected_pairs;
@@ -307,8 +311,8 @@ namespace TKR::Mortar
 
     const unsigned int begin = accumulator.points.size();
     if (!cell_quadrature.append_points(cell,
-                                       slave_face.quad,
-                                       master_plane,
+                                       slave_inverse,
+                                       PlaneQuadInverse(master_plane),
                                        accumulator.points))
       {
         ++stats.n_rejected_pairs;
@@ -316,7 +320,7 @@ namespace TKR::Mortar
       }
     accumulator.cells.push_back(
       {e,
-       m,
+       pair.master_face,
        begin,
        static_cast<unsigned int>(accumulator.points.size()),
        area,
@@ -416,12 +420,17 @@ namespace TKR::Mortar
     // psi = t psi^dual + (1 - t) phi with t = dual_weight(coverage): the
     // dual basis on a fully covered face, the standard one below
     // dual_coverage, blended continuously in between.
-    FullMatrix<double> A(4, 4);
-    const double       t =
+    FullMatrix<double> &A = accumulator.dual;
+    A.reinit(4, 4);
+    const double t =
       face.fully_covered ? 1. : dual_weight(std::min(face.coverage, 1.));
     if (t > 0)
       {
-        A = dual_basis_coefficients(phi, weight);
+        dual_basis_coefficients(phi,
+                                weight,
+                                accumulator.mass,
+                                accumulator.mass_inverse,
+                                A);
         A *= t;
       }
     for (unsigned int i = 0; i < 4; ++i)

@@ -40,8 +40,8 @@ namespace TKR::Mortar
   // triangular cell (so that there are more points than fitted moments).
   bool
   CellQuadrature::append_points(const Polygon          &cell,
-                                const PlaneQuad        &slave,
-                                const PlaneQuad        &master,
+                                const PlaneQuadInverse &slave,
+                                const PlaneQuadInverse &master,
                                 std::vector<CellPoint> &points) const
   {
     const unsigned int n_vertices = cell.size();
@@ -53,7 +53,7 @@ namespace TKR::Mortar
     for (unsigned int v = 0; v < n_vertices; ++v)
       {
         p[v] = cell[v];
-        if (!slave.inverse(p[v], xi[v]) || !master.inverse(p[v], eta[v]))
+        if (!slave(p[v], xi[v], false) || !master(p[v], eta[v], false))
           return false;
       }
 
@@ -73,8 +73,8 @@ namespace TKR::Mortar
               eta[a] + s * (eta[b] - eta[a]) + t * (eta[c] - eta[a]);
             point.weight = 2. * triangle_area * triangle_rule.weight(q);
             const Point2 x(p[a] + s * e0 + t * e1);
-            if (!slave.inverse(x, point.slave_xi, nullptr, true) ||
-                !master.inverse(x, point.master_xi, nullptr, true))
+            if (!slave(x, point.slave_xi, true) ||
+                !master(x, point.master_xi, true))
               return false;
             points.push_back(point);
           }
@@ -243,15 +243,26 @@ namespace TKR::Mortar
      * three steps, each of which reduces the error of a component with
      * (scaled) eigenvalue sigma by the factor eps / (sigma + eps).
      */
+    /** Work space of refine() and of the dense solve_regularized(). */
+    struct DenseScratch
+    {
+      FullMatrix<double> inverse;
+      Vector<double>     residual, correction;
+    };
+
     template <typename Matrix, typename Inverse>
     void
     refine(const Matrix         &G,
            const Inverse        &inverse,
            const Vector<double> &b,
-           Vector<double>       &x)
+           Vector<double>       &x,
+           DenseScratch         &scratch)
     {
-      x = 0.;
-      Vector<double> residual(b), correction(b.size());
+      x                          = 0.;
+      Vector<double> &residual   = scratch.residual;
+      Vector<double> &correction = scratch.correction;
+      residual                   = b;
+      correction.reinit(b.size(), true);
       for (unsigned int step = 0; step < 3; ++step)
         {
           inverse.vmult(correction, residual);
@@ -263,13 +274,15 @@ namespace TKR::Mortar
     void
     solve_regularized(const FullMatrix<double> &G,
                       const Vector<double>     &b,
-                      Vector<double>           &x)
+                      Vector<double>           &x,
+                      DenseScratch             &scratch)
     {
-      FullMatrix<double> inverse(G);
+      FullMatrix<double> &inverse = scratch.inverse;
+      inverse                     = G;
       for (unsigned int i = 0; i < G.m(); ++i)
         inverse(i, i) += 1e-10 * std::abs(G(i, i)) + 1e-300;
       inverse.gauss_jordan();
-      refine(G, inverse, b, x);
+      refine(G, inverse, b, x, scratch);
     }
 
     void
@@ -283,7 +296,8 @@ namespace TKR::Mortar
         regularized.diag_element(i) += 1e-10 * std::abs(G.diag_element(i));
       SparseDirectUMFPACK inverse;
       inverse.initialize(regularized);
-      refine(G, inverse, b, x);
+      DenseScratch scratch;
+      refine(G, inverse, b, x, scratch);
     }
 
     /** lambda from one small dense system (C W C^T) per face, for faces
@@ -299,6 +313,10 @@ namespace TKR::Mortar
       std::vector<double>         lambda(conditions.n_unknowns, 0.);
       std::array<unsigned int, 7> index;
       std::array<double, 7>       value;
+      // (reused from face to face: their memory is kept)
+      FullMatrix<double> G;
+      Vector<double>     b, x;
+      DenseScratch       scratch;
       for (unsigned int f = 0; f < faces.size(); ++f)
         {
           // Local unknowns: the face's cells (consecutive), then its three.
@@ -312,8 +330,9 @@ namespace TKR::Mortar
                                   i - first_cell :
                                   i - first_face + cells.size();
           };
-          FullMatrix<double> G(n_local, n_local);
-          Vector<double>     b(n_local), x(n_local);
+          G.reinit(n_local, n_local);
+          b.reinit(n_local);
+          x.reinit(n_local);
           for (const unsigned int c : cells)
             for (unsigned int q = ranges[c].first; q < ranges[c].second; ++q)
               {
@@ -321,16 +340,18 @@ namespace TKR::Mortar
                                                         points[q],
                                                         index,
                                                         value);
+                std::array<unsigned int, 7> row;
+                for (unsigned int k = 0; k < n; ++k)
+                  row[k] = local(index[k]);
                 for (unsigned int k = 0; k < n; ++k)
                   for (unsigned int l = 0; l < n; ++l)
-                    G(local(index[k]), local(index[l])) +=
-                      points[q].weight * value[k] * value[l];
+                    G(row[k], row[l]) += points[q].weight * value[k] * value[l];
               }
           for (unsigned int i = 0; i < cells.size(); ++i)
             b(i) = rhs[first_cell + i];
           for (unsigned int r = 0; r < 3; ++r)
             b(cells.size() + r) = rhs[first_face + r];
-          solve_regularized(G, b, x);
+          solve_regularized(G, b, x, scratch);
           for (unsigned int i = 0; i < cells.size(); ++i)
             lambda[first_cell + i] = x(i);
           for (unsigned int r = 0; r < 3; ++r)

@@ -124,6 +124,19 @@ namespace TKR::Mortar
     return {{cross(a, b), cross(a, c), cross(c, b)}};
   }
 
+  PlaneQuadInverse::PlaneQuadInverse(const PlaneQuad &quad)
+  {
+    const auto &v = quad.vertices;
+    p0            = v[0];
+    ax            = v[1][0] - v[0][0];
+    ay            = v[1][1] - v[0][1];
+    bx            = v[2][0] - v[0][0];
+    by            = v[2][1] - v[0][1];
+    cx            = v[0][0] - v[1][0] - v[2][0] + v[3][0];
+    cy            = v[0][1] - v[1][1] - v[2][1] + v[3][1];
+    scale = std::max((v[3] - v[0]).norm_square(), (v[2] - v[1]).norm_square());
+  }
+
   // Newton's method for p(xi) = p, written out for the 2x2 system
   // (p(xi) = p_0 + a xi_0 + b xi_1 + c xi_0 xi_1, see above). Without a
   // guess the first iterate solves the affine approximation at the centre of
@@ -131,18 +144,10 @@ namespace TKR::Mortar
   // convergence is quadratic, so the error is then of the order of its
   // square (round-off).
   bool
-  PlaneQuad::inverse(const Point2 &p,
-                     Point2       &xi,
-                     Tensor<2, 2> *inverse,
-                     const bool    use_guess) const
+  PlaneQuadInverse::operator()(const Point2 &p,
+                               Point2       &xi,
+                               const bool    use_guess) const
   {
-    const auto  &v  = vertices;
-    const double ax = v[1][0] - v[0][0], ay = v[1][1] - v[0][1];
-    const double bx = v[2][0] - v[0][0], by = v[2][1] - v[0][1];
-    const double cx = v[0][0] - v[1][0] - v[2][0] + v[3][0];
-    const double cy = v[0][1] - v[1][1] - v[2][1] + v[3][1];
-    const double scale =
-      std::max((v[3] - v[0]).norm_square(), (v[2] - v[1]).norm_square());
     double x = use_guess ? xi[0] : 0.5, y = use_guess ? xi[1] : 0.5;
     for (unsigned int iteration = 0; iteration < 30; ++iteration)
       {
@@ -151,8 +156,8 @@ namespace TKR::Mortar
         const double det = j00 * j11 - j01 * j10;
         if (!(std::abs(det) > 1e-14 * scale))
           return false;
-        const double fx = v[0][0] + ax * x + bx * y + cx * x * y - p[0];
-        const double fy = v[0][1] + ay * x + by * y + cy * x * y - p[1];
+        const double fx = p0[0] + ax * x + bx * y + cx * x * y - p[0];
+        const double fy = p0[1] + ay * x + by * y + cy * x * y - p[1];
         const double dx = (j11 * fx - j01 * fy) / det;
         const double dy = (j00 * fy - j10 * fx) / det;
         x -= dx;
@@ -160,14 +165,25 @@ namespace TKR::Mortar
         if (std::max(std::abs(dx), std::abs(dy)) < 1e-8)
           {
             xi = Point2(x, y);
-            if (inverse)
-              *inverse = invert(jacobian(xi));
             return true;
           }
         if (std::abs(x) > 1e3 || std::abs(y) > 1e3)
           return false;
       }
     return false;
+  }
+
+  bool
+  PlaneQuad::inverse(const Point2 &p,
+                     Point2       &xi,
+                     Tensor<2, 2> *inverse,
+                     const bool    use_guess) const
+  {
+    if (!PlaneQuadInverse(*this)(p, xi, use_guess))
+      return false;
+    if (inverse)
+      *inverse = invert(jacobian(xi));
+    return true;
   }
 
   Polygon

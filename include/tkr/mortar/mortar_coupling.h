@@ -321,6 +321,7 @@ namespace TKR::Mortar
     struct Accumulator;
     struct SlaveProjection;
     struct SlaveCache;
+    struct FacePair;
 
     /**
      * What depends on the slave surface alone (nodal areas and normals, the
@@ -342,8 +343,9 @@ namespace TKR::Mortar
     /**
      * The master faces that may couple to slave face @p e (facing it,
      * within the search distance, overlapping it in its plane) into
-     * @p pairs, and a lower bound of its distance to them along its plane
-     * normal into face_distance (infinity if there are none).
+     * @p pairs, with their projections onto its plane, and a lower bound of its
+     * distance to them along its plane normal into face_distance (infinity if
+     * there are none).
      */
     void
     find_pairs(const unsigned int                   e,
@@ -351,7 +353,7 @@ namespace TKR::Mortar
                const MasterGeometry                &master_faces,
                const double                         search_distance,
                Accumulator                         &accumulator,
-               std::vector<unsigned int>           &pairs);
+               std::vector<FacePair>               &pairs);
 
     /**
      * With a window: which slave faces are integrated (those with a node
@@ -373,18 +375,18 @@ namespace TKR::Mortar
     /** The integration cells of slave face @p e and the master faces
      *  @p pairs, with Gauss points. */
     void
-    make_cells(const unsigned int               e,
-               const std::vector<unsigned int> &pairs,
-               const MasterGeometry            &master_faces,
-               Accumulator                     &accumulator);
+    make_cells(const unsigned int           e,
+               const std::vector<FacePair> &pairs,
+               Accumulator                 &accumulator);
 
-    /** The integration cell of slave face @p e and master face @p m. */
+    /** The integration cell of slave face @p e and the master face of
+     *  @p pair; @p slave_inverse inverts the slave face's projection. */
     void
-    make_cell(const unsigned int     e,
-              const unsigned int     m,
-              const SlaveProjection &slave_face,
-              const MasterGeometry  &master_faces,
-              Accumulator           &accumulator);
+    make_cell(const unsigned int      e,
+              const FacePair         &pair,
+              const SlaveProjection  &slave_face,
+              const PlaneQuadInverse &slave_inverse,
+              Accumulator            &accumulator);
 
     /** Fit the weights of the points to exact face integrals. */
     void

@@ -51,8 +51,8 @@ namespace TKR::Mortar
      */
     bool
     append_points(const Polygon          &cell,
-                  const PlaneQuad        &slave,
-                  const PlaneQuad        &master,
+                  const PlaneQuadInverse &slave,
+                  const PlaneQuadInverse &master,
                   std::vector<CellPoint> &points) const;
 
   private:

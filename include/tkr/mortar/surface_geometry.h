@@ -135,6 +135,26 @@ namespace TKR::Mortar
     convex_orientation() const;
   };
 
+  /**
+   * PlaneQuad::inverse() for many points of one quadrilateral: the map's
+   * coefficients (p(xi) = p_0 + a xi_0 + b xi_1 + c xi_0 xi_1) and scale
+   * computed once (a coupling maps every quadrature point back to both of
+   * its faces).
+   */
+  class PlaneQuadInverse
+  {
+  public:
+    explicit PlaneQuadInverse(const PlaneQuad &quad);
+
+    /** PlaneQuad::inverse() without the Jacobian. */
+    bool
+    operator()(const Point2 &p, Point2 &xi, const bool use_guess) const;
+
+  private:
+    Point2 p0;
+    double ax, ay, bx, by, cx, cy, scale;
+  };
+
   /** Signed area (positive if counter-clockwise). */
   double
   signed_area(const Polygon &polygon);
