@@ -233,6 +233,13 @@ namespace TKR::Mortar
       return r;
     }
 
+    /** Work space of refine() and of the dense solve_regularized(). */
+    struct SolveScratch
+    {
+      FullMatrix<double> inverse;
+      Vector<double>     residual, correction;
+    };
+
     /**
      * Solve G x = b for the symmetric positive semidefinite G = C W C^T
      * (solve_regularized()). G is singular where conditions coincide (a
@@ -243,20 +250,13 @@ namespace TKR::Mortar
      * three steps, each of which reduces the error of a component with
      * (scaled) eigenvalue sigma by the factor eps / (sigma + eps).
      */
-    /** Work space of refine() and of the dense solve_regularized(). */
-    struct DenseScratch
-    {
-      FullMatrix<double> inverse;
-      Vector<double>     residual, correction;
-    };
-
     template <typename Matrix, typename Inverse>
     void
     refine(const Matrix         &G,
            const Inverse        &inverse,
            const Vector<double> &b,
            Vector<double>       &x,
-           DenseScratch         &scratch)
+           SolveScratch         &scratch)
     {
       x                          = 0.;
       Vector<double> &residual   = scratch.residual;
@@ -275,7 +275,7 @@ namespace TKR::Mortar
     solve_regularized(const FullMatrix<double> &G,
                       const Vector<double>     &b,
                       Vector<double>           &x,
-                      DenseScratch             &scratch)
+                      SolveScratch             &scratch)
     {
       FullMatrix<double> &inverse = scratch.inverse;
       inverse                     = G;
@@ -296,7 +296,7 @@ namespace TKR::Mortar
         regularized.diag_element(i) += 1e-10 * std::abs(G.diag_element(i));
       SparseDirectUMFPACK inverse;
       inverse.initialize(regularized);
-      DenseScratch scratch;
+      SolveScratch scratch;
       refine(G, inverse, b, x, scratch);
     }
 
@@ -316,7 +316,7 @@ namespace TKR::Mortar
       // (reused from face to face: their memory is kept)
       FullMatrix<double> G;
       Vector<double>     b, x;
-      DenseScratch       scratch;
+      SolveScratch       scratch;
       for (unsigned int f = 0; f < faces.size(); ++f)
         {
           // Local unknowns: the face's cells (consecutive), then its three.

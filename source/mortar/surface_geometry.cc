@@ -97,21 +97,6 @@ namespace TKR::Mortar
     return p;
   }
 
-  Tensor<2, 2>
-  PlaneQuad::jacobian(const Point2 &xi) const
-  {
-    const auto        &p  = vertices;
-    const Tensor<1, 2> d0 = (1 - xi[1]) * (p[1] - p[0]) + xi[1] * (p[3] - p[2]);
-    const Tensor<1, 2> d1 = (1 - xi[0]) * (p[2] - p[0]) + xi[0] * (p[3] - p[1]);
-    Tensor<2, 2>       J;
-    for (unsigned int d = 0; d < 2; ++d)
-      {
-        J[d][0] = d0[d];
-        J[d][1] = d1[d];
-      }
-    return J;
-  }
-
   // With a = p_1 - p_0, b = p_2 - p_0, c = p_0 - p_1 - p_2 + p_3 the columns
   // of the Jacobian are a + c xi_1 and b + c xi_0, so its determinant is
   // a x b + (a x c) xi_0 + (c x b) xi_1: the xi_0 xi_1 term c x c vanishes.
@@ -171,19 +156,6 @@ namespace TKR::Mortar
           return false;
       }
     return false;
-  }
-
-  bool
-  PlaneQuad::inverse(const Point2 &p,
-                     Point2       &xi,
-                     Tensor<2, 2> *inverse,
-                     const bool    use_guess) const
-  {
-    if (!PlaneQuadInverse(*this)(p, xi, use_guess))
-      return false;
-    if (inverse)
-      *inverse = invert(jacobian(xi));
-    return true;
   }
 
   Polygon

@@ -100,26 +100,9 @@ namespace TKR::Mortar
     Point2
     point(const Point2 &xi) const;
 
-    /** dp/dxi: column c is dp/dxi_c. */
-    dealii::Tensor<2, 2>
-    jacobian(const Point2 &xi) const;
-
     /** (j_0, j_1, j_2) of the determinant above. */
     std::array<double, 3>
     determinant_coefficients() const;
-
-    /**
-     * The parameters xi with p(xi) = @p p by Newton's method, from @p xi as
-     * given if @p use_guess, else from the affine approximation at the
-     * centre (xi may lie slightly outside the unit square for points on its
-     * edges). If @p inverse is given, also the inverse Jacobian at xi.
-     * False if Newton's method does not converge.
-     */
-    bool
-    inverse(const Point2         &p,
-            Point2               &xi,
-            dealii::Tensor<2, 2> *inverse   = nullptr,
-            const bool            use_guess = false) const;
 
     /** The outline p_0, p_1, p_3, p_2. */
     Polygon
@@ -136,17 +119,22 @@ namespace TKR::Mortar
   };
 
   /**
-   * PlaneQuad::inverse() for many points of one quadrilateral: the map's
-   * coefficients (p(xi) = p_0 + a xi_0 + b xi_1 + c xi_0 xi_1) and scale
-   * computed once (a coupling maps every quadrature point back to both of
-   * its faces).
+   * The inverse of a PlaneQuad's map, for many points of one quadrilateral:
+   * the map's coefficients (p(xi) = p_0 + a xi_0 + b xi_1 + c xi_0 xi_1)
+   * and scale computed once (a coupling maps every quadrature point back to
+   * both of its faces).
    */
   class PlaneQuadInverse
   {
   public:
     explicit PlaneQuadInverse(const PlaneQuad &quad);
 
-    /** PlaneQuad::inverse() without the Jacobian. */
+    /**
+     * The parameters xi with p(xi) = @p p by Newton's method, from @p xi as
+     * given if @p use_guess, else from the affine approximation at the
+     * centre (xi may lie slightly outside the unit square for points on its
+     * edges). False if Newton's method does not converge.
+     */
     bool
     operator()(const Point2 &p, Point2 &xi, const bool use_guess) const;
 
