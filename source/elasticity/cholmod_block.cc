@@ -8,9 +8,40 @@
 
 #include <dlfcn.h>
 
+#include <algorithm>
 #include <string>
 
 #include "cholmod_block.h"
+
+extern "C" {
+// The BLAS that CHOLMOD's supernodal solves call (Fortran interface).
+void
+dtrsm_(const char   *side,
+       const char   *uplo,
+       const char   *transa,
+       const char   *diag,
+       const int    *m,
+       const int    *n,
+       const double *alpha,
+       const double *a,
+       const int    *lda,
+       double       *b,
+       const int    *ldb);
+void
+dgemm_(const char   *transa,
+       const char   *transb,
+       const int    *m,
+       const int    *n,
+       const int    *k,
+       const double *alpha,
+       const double *a,
+       const int    *lda,
+       const double *b,
+       const int    *ldb,
+       const double *beta,
+       double       *c,
+       const int    *ldc);
+}
 
 namespace TKR::Elasticity
 {
@@ -93,6 +124,32 @@ namespace TKR::Elasticity
                   format_number(rcond) +
                   "): a body can move as a rigid body. Check the Dirichlet "
                   "surfaces and the springs."));
+
+    // The supernodal elimination tree: a supernode's parent holds the
+    // first row below its diagonal block.
+    supernode_of_row.clear();
+    parent_supernode.clear();
+    if (L->is_super)
+      {
+        const Index  n_super = L->nsuper;
+        const Index *super   = static_cast<const Index *>(L->super);
+        const Index *pi      = static_cast<const Index *>(L->pi);
+        const Index *L_rows  = static_cast<const Index *>(L->s);
+        supernode_of_row.resize(n_block);
+        for (Index s = 0; s < n_super; ++s)
+          std::fill(supernode_of_row.begin() + super[s],
+                    supernode_of_row.begin() + super[s + 1],
+                    s);
+        parent_supernode.resize(n_super);
+        for (Index s = 0; s < n_super; ++s)
+          {
+            const Index n_columns = super[s + 1] - super[s];
+            parent_supernode[s] =
+              pi[s + 1] - pi[s] > n_columns ?
+                supernode_of_row[L_rows[pi[s] + n_columns]] :
+                -1;
+          }
+      }
   }
 
   const double *
@@ -107,6 +164,8 @@ namespace TKR::Elasticity
     // side on the medium TKR mesh: 30-37 ms with one thread, 37-92 ms
     // with two; doc/performance.md).
     ScopedBlasThreads threads(m >= 8 ? blas_threads : blas_threads > 0 ? 1 : 0);
+    if (m > 1 && L->is_super && L->is_ll && L->xtype == CHOLMOD_REAL)
+      return solve_batch(B, m);
     // A header for the right-hand sides (CHOLMOD only reads B).
     cholmod_dense B_header;
     B_header.nrow  = n_rows();
@@ -130,6 +189,109 @@ namespace TKR::Elasticity
                 dealii::ExcMessage("CHOLMOD solve failed (status " +
                                    std::to_string(common.status) + ")."));
     return static_cast<const double *>(buffers.X->x);
+  }
+
+  // As cholmod_l_solve2() with CHOLMOD_A on a supernodal LL' factor:
+  // Y = P B, Y = L \ Y (cholmod_super_lsolve()'s steps for several
+  // columns, on the visited supernodes), Y = L' \ Y (CHOLMOD's own),
+  // X = P' Y.
+  const double *
+  DirectSolver::Block::solve_batch(const double *B, const Index m)
+  {
+    const Index   n       = n_rows();
+    const Index   n_super = L->nsuper;
+    const Index  *perm    = static_cast<const Index *>(L->Perm);
+    const Index  *super   = static_cast<const Index *>(L->super);
+    const Index  *pi      = static_cast<const Index *>(L->pi);
+    const Index  *px      = static_cast<const Index *>(L->px);
+    const Index  *L_rows  = static_cast<const Index *>(L->s);
+    const double *Lx      = static_cast<const double *>(L->x);
+
+    permuted.resize(n * m);
+    visited.assign(n_super, 0);
+    for (Index j = 0; j < m; ++j)
+      for (Index k = 0; k < n; ++k)
+        {
+          const double b      = B[perm[k] + j * n];
+          permuted[k + j * n] = b;
+          if (b != 0.)
+            for (Index s = supernode_of_row[k]; s >= 0 && !visited[s];
+                 s       = parent_supernode[s])
+              visited[s] = 1;
+        }
+
+    updates.resize(m * L->maxesize);
+    double      *Y = permuted.data(), *E = updates.data();
+    const int    n_rhs = m, ld = n;
+    const double one = 1., minus_one = -1.;
+    for (Index s = 0; s < n_super; ++s)
+      if (visited[s])
+        {
+          const Index k1        = super[s];
+          const int   n_columns = super[s + 1] - k1;
+          const int   n_rows_s  = pi[s + 1] - pi[s];
+          const int   n_below   = n_rows_s - n_columns;
+          const Index below     = pi[s] + n_columns;
+          for (int ii = 0; ii < n_below; ++ii)
+            for (int j = 0; j < n_rhs; ++j)
+              E[ii + j * n_below] = Y[L_rows[below + ii] + j * n];
+          dtrsm_("L",
+                 "L",
+                 "N",
+                 "N",
+                 &n_columns,
+                 &n_rhs,
+                 &one,
+                 Lx + px[s],
+                 &n_rows_s,
+                 Y + k1,
+                 &ld);
+          if (n_below > 0)
+            dgemm_("N",
+                   "N",
+                   &n_below,
+                   &n_rhs,
+                   &n_columns,
+                   &minus_one,
+                   Lx + px[s] + n_columns,
+                   &n_rows_s,
+                   Y + k1,
+                   &ld,
+                   &one,
+                   E,
+                   &n_below);
+          for (int ii = 0; ii < n_below; ++ii)
+            for (int j = 0; j < n_rhs; ++j)
+              Y[L_rows[below + ii] + j * n] = E[ii + j * n_below];
+        }
+
+    cholmod_dense Y_header, E_header;
+    for (cholmod_dense *header : {&Y_header, &E_header})
+      {
+        header->z     = nullptr;
+        header->xtype = CHOLMOD_REAL;
+        header->dtype = CHOLMOD_DOUBLE;
+      }
+    Y_header.nrow  = n;
+    Y_header.ncol  = m;
+    Y_header.nzmax = n * m;
+    Y_header.d     = n;
+    Y_header.x     = Y;
+    E_header.nrow  = m;
+    E_header.ncol  = L->maxesize;
+    E_header.nzmax = m * L->maxesize;
+    E_header.d     = m;
+    E_header.x     = E;
+    const int ok   = cholmod_l_super_ltsolve(L, &Y_header, &E_header, &common);
+    AssertThrow(ok != 0,
+                dealii::ExcMessage("CHOLMOD solve failed (status " +
+                                   std::to_string(common.status) + ")."));
+
+    solutions.resize(n * m);
+    for (Index j = 0; j < m; ++j)
+      for (Index k = 0; k < n; ++k)
+        solutions[perm[k] + j * n] = Y[k + j * n];
+    return solutions.data();
   }
 
 } // namespace TKR::Elasticity

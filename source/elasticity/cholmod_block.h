@@ -108,6 +108,21 @@ namespace TKR::Elasticity
              row_index == other.row_index && values == other.values;
     }
 
+    /**
+     * Per row of the permuted matrix: its supernode; per supernode: its
+     * parent in the supernodal elimination tree (-1 for a root). Set by
+     * factorise().
+     */
+    std::vector<internal::Index> supernode_of_row, parent_supernode;
+
+    /**
+     * The work space of a batch's solve: the permuted right-hand sides
+     * and solutions, CHOLMOD's update buffer, the supernodes that the
+     * forward solve visits, and the solutions in the block's order.
+     */
+    std::vector<double> permuted, updates, solutions;
+    std::vector<char>   visited;
+
     /** Order and factorise the lower triangle; refuse a singular one. */
     void
     factorise();
@@ -120,6 +135,16 @@ namespace TKR::Elasticity
     solve(const double         *B,
           const internal::Index m,
           const unsigned int    blas_threads);
+
+    /**
+     * solve() for m > 1 columns: CHOLMOD's supernodal solve, whose forward
+     * substitution visits only the supernodes on the paths from the
+     * right-hand sides' nonzero rows to the roots of the elimination tree
+     * (the others stay zero; a unit load's column touches a few percent
+     * of them); the same operations on those, so the same solutions.
+     */
+    const double *
+    solve_batch(const double *B, const internal::Index m);
 
     internal::Index
     n_rows() const
