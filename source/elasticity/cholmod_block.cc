@@ -4,6 +4,8 @@
 // DirectSolver::Block: CHOLMOD's ordering, factorisation and solves of one
 // block of the stiffness matrix (a body).
 
+#include <deal.II/lac/lapack_templates.h>
+
 #include <tkr/base/exceptions.h>
 
 #include <dlfcn.h>
@@ -14,39 +16,53 @@
 #include "cholmod_block.h"
 
 extern "C" {
-// The BLAS that CHOLMOD's supernodal solves call (Fortran interface).
+// The triangular solve that CHOLMOD's supernodal solves call (Fortran
+// interface; deal.II's lapack_templates.h has no wrapper for it).
 void
-dtrsm_(const char   *side,
-       const char   *uplo,
-       const char   *transa,
-       const char   *diag,
-       const int    *m,
-       const int    *n,
-       const double *alpha,
-       const double *a,
-       const int    *lda,
-       double       *b,
-       const int    *ldb);
-void
-dgemm_(const char   *transa,
-       const char   *transb,
-       const int    *m,
-       const int    *n,
-       const int    *k,
-       const double *alpha,
-       const double *a,
-       const int    *lda,
-       const double *b,
-       const int    *ldb,
-       const double *beta,
-       double       *c,
-       const int    *ldc);
+dtrsm_(const char                    *side,
+       const char                    *uplo,
+       const char                    *transa,
+       const char                    *diag,
+       const dealii::types::blas_int *m,
+       const dealii::types::blas_int *n,
+       const double                  *alpha,
+       const double                  *a,
+       const dealii::types::blas_int *lda,
+       double                        *b,
+       const dealii::types::blas_int *ldb);
 }
 
 namespace TKR::Elasticity
 {
   using internal::Index;
   using internal::ScopedBlasThreads;
+
+  namespace
+  {
+    /** A CHOLMOD header for the column-major n_rows x n_columns @p x. */
+    cholmod_dense
+    dense_view(const double *x, const Index n_rows, const Index n_columns)
+    {
+      cholmod_dense header;
+      header.nrow  = n_rows;
+      header.ncol  = n_columns;
+      header.nzmax = n_rows * n_columns;
+      header.d     = n_rows;
+      header.x     = const_cast<double *>(x);
+      header.z     = nullptr;
+      header.xtype = CHOLMOD_REAL;
+      header.dtype = CHOLMOD_DOUBLE;
+      return header;
+    }
+
+    void
+    check_solve(const int ok, const cholmod_common &common)
+    {
+      AssertThrow(ok != 0,
+                  dealii::ExcMessage("CHOLMOD solve failed (status " +
+                                     std::to_string(common.status) + ")."));
+    }
+  } // namespace
 
   namespace internal
   {
@@ -157,7 +173,6 @@ namespace TKR::Elasticity
                              const Index        m,
                              const unsigned int blas_threads)
   {
-    SolveBuffers &buffers = (m == 1) ? single : batch;
     // BLAS threads only for many columns: with a few, the supernodal
     // solve is a sequence of matrix-vector products, bound by memory
     // bandwidth, and threads only cost synchronisation (one right-hand
@@ -166,29 +181,19 @@ namespace TKR::Elasticity
     ScopedBlasThreads threads(m >= 8 ? blas_threads : blas_threads > 0 ? 1 : 0);
     if (m > 1 && L->is_super && L->is_ll && L->xtype == CHOLMOD_REAL)
       return solve_batch(B, m);
-    // A header for the right-hand sides (CHOLMOD only reads B).
-    cholmod_dense B_header;
-    B_header.nrow  = n_rows();
-    B_header.ncol  = m;
-    B_header.nzmax = n_rows() * m;
-    B_header.d     = n_rows();
-    B_header.x     = const_cast<double *>(B);
-    B_header.z     = nullptr;
-    B_header.xtype = CHOLMOD_REAL;
-    B_header.dtype = CHOLMOD_DOUBLE;
-    const int ok   = cholmod_l_solve2(CHOLMOD_A,
-                                    L,
-                                    &B_header,
-                                    nullptr,
-                                    &buffers.X,
-                                    nullptr,
-                                    &buffers.Y,
-                                    &buffers.E,
-                                    &common);
-    AssertThrow(ok != 0,
-                dealii::ExcMessage("CHOLMOD solve failed (status " +
-                                   std::to_string(common.status) + ")."));
-    return static_cast<const double *>(buffers.X->x);
+    // (CHOLMOD only reads B)
+    cholmod_dense B_header = dense_view(B, n_rows(), m);
+    check_solve(cholmod_l_solve2(CHOLMOD_A,
+                                 L,
+                                 &B_header,
+                                 nullptr,
+                                 &X_buffer,
+                                 nullptr,
+                                 &Y_buffer,
+                                 &E_buffer,
+                                 &common),
+                common);
+    return static_cast<const double *>(X_buffer->x);
   }
 
   // As cholmod_l_solve2() with CHOLMOD_A on a supernodal LL' factor:
@@ -221,19 +226,19 @@ namespace TKR::Elasticity
         }
 
     updates.resize(m * L->maxesize);
-    double      *Y = permuted.data(), *E = updates.data();
-    const int    n_rhs = m, ld = n;
-    const double one = 1., minus_one = -1.;
+    double                       *Y = permuted.data(), *E = updates.data();
+    const dealii::types::blas_int n_rhs = m, ld = n;
+    const double                  one = 1., minus_one = -1.;
     for (Index s = 0; s < n_super; ++s)
       if (visited[s])
         {
-          const Index k1        = super[s];
-          const int   n_columns = super[s + 1] - k1;
-          const int   n_rows_s  = pi[s + 1] - pi[s];
-          const int   n_below   = n_rows_s - n_columns;
-          const Index below     = pi[s] + n_columns;
-          for (int ii = 0; ii < n_below; ++ii)
-            for (int j = 0; j < n_rhs; ++j)
+          const Index                   k1        = super[s];
+          const dealii::types::blas_int n_columns = super[s + 1] - k1;
+          const dealii::types::blas_int n_rows_s  = pi[s + 1] - pi[s];
+          const dealii::types::blas_int n_below   = n_rows_s - n_columns;
+          const Index                   below     = pi[s] + n_columns;
+          for (Index ii = 0; ii < n_below; ++ii)
+            for (Index j = 0; j < m; ++j)
               E[ii + j * n_below] = Y[L_rows[below + ii] + j * n];
           dtrsm_("L",
                  "L",
@@ -247,45 +252,29 @@ namespace TKR::Elasticity
                  Y + k1,
                  &ld);
           if (n_below > 0)
-            dgemm_("N",
-                   "N",
-                   &n_below,
-                   &n_rhs,
-                   &n_columns,
-                   &minus_one,
-                   Lx + px[s] + n_columns,
-                   &n_rows_s,
-                   Y + k1,
-                   &ld,
-                   &one,
-                   E,
-                   &n_below);
-          for (int ii = 0; ii < n_below; ++ii)
-            for (int j = 0; j < n_rhs; ++j)
+            dealii::gemm("N",
+                         "N",
+                         &n_below,
+                         &n_rhs,
+                         &n_columns,
+                         &minus_one,
+                         Lx + px[s] + n_columns,
+                         &n_rows_s,
+                         Y + k1,
+                         &ld,
+                         &one,
+                         E,
+                         &n_below);
+          for (Index ii = 0; ii < n_below; ++ii)
+            for (Index j = 0; j < m; ++j)
               Y[L_rows[below + ii] + j * n] = E[ii + j * n_below];
         }
 
-    cholmod_dense Y_header, E_header;
-    for (cholmod_dense *header : {&Y_header, &E_header})
-      {
-        header->z     = nullptr;
-        header->xtype = CHOLMOD_REAL;
-        header->dtype = CHOLMOD_DOUBLE;
-      }
-    Y_header.nrow  = n;
-    Y_header.ncol  = m;
-    Y_header.nzmax = n * m;
-    Y_header.d     = n;
-    Y_header.x     = Y;
-    E_header.nrow  = m;
-    E_header.ncol  = L->maxesize;
-    E_header.nzmax = m * L->maxesize;
-    E_header.d     = m;
-    E_header.x     = E;
-    const int ok   = cholmod_l_super_ltsolve(L, &Y_header, &E_header, &common);
-    AssertThrow(ok != 0,
-                dealii::ExcMessage("CHOLMOD solve failed (status " +
-                                   std::to_string(common.status) + ")."));
+    // (E as CHOLMOD's solve allocates it: m x maxesize)
+    cholmod_dense Y_header = dense_view(Y, n, m),
+                  E_header = dense_view(E, m, L->maxesize);
+    check_solve(cholmod_l_super_ltsolve(L, &Y_header, &E_header, &common),
+                common);
 
     solutions.resize(n * m);
     for (Index j = 0; j < m; ++j)

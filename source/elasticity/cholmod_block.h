@@ -50,19 +50,13 @@ namespace TKR::Elasticity
   // One block of the matrix that no other row couples to (a body): its
   // rows, its lower triangle as factorised (to recognise it again) and
   // CHOLMOD's objects, freed in the destructor: the workspace (common), the
-  // factor L and the dense buffers that cholmod_l_solve2() reuses (it
-  // reallocates them whenever the number of columns changes, so one set for
-  // single right-hand sides and one for batches).
+  // factor L and the dense buffers that cholmod_l_solve2() reuses for
+  // single right-hand sides (batches have their own work space below).
   struct DirectSolver::Block
   {
-    struct SolveBuffers
-    {
-      cholmod_dense *X = nullptr, *Y = nullptr, *E = nullptr;
-    };
-
     cholmod_common  common;
-    cholmod_factor *L = nullptr;
-    SolveBuffers    single, batch;
+    cholmod_factor *L       = nullptr;
+    cholmod_dense *X_buffer = nullptr, *Y_buffer = nullptr, *E_buffer = nullptr;
     /** The global rows, increasing. */
     std::vector<long long> rows;
     /** The lower triangle (compressed columns, local indices). */
@@ -86,12 +80,8 @@ namespace TKR::Elasticity
 
     ~Block()
     {
-      for (SolveBuffers *buffers : {&single, &batch})
-        {
-          cholmod_l_free_dense(&buffers->X, &common);
-          cholmod_l_free_dense(&buffers->Y, &common);
-          cholmod_l_free_dense(&buffers->E, &common);
-        }
+      for (cholmod_dense **buffer : {&X_buffer, &Y_buffer, &E_buffer})
+        cholmod_l_free_dense(buffer, &common);
       cholmod_l_free_factor(&L, &common);
       cholmod_l_finish(&common);
     }
